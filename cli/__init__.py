@@ -1,0 +1,1 @@
+"""The ``usdksl`` command line; installed as ``usdksl.cli``."""

@@ -1,0 +1,20 @@
+"""Entry point of the ``usdksl`` command: one click group, one module per command."""
+
+import click
+
+from .. import __version__
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="usdksl")
+def main():
+    """Prove that a USD animation cache is free of interpenetrations."""
+
+
+def _register():
+    from .info import info
+
+    main.add_command(info)
+
+
+_register()

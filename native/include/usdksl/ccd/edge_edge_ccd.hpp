@@ -1,0 +1,18 @@
+#pragma once
+/// @file edge_edge_ccd.hpp
+/// @brief Conservative continuous edge-edge test over one linear step.
+
+#include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/types.hpp"
+
+namespace usdksl {
+
+/// @brief Earliest time (fraction of the step) at which edge (ea0,ea1) comes
+///        within settings.thickness of edge (eb0,eb1), all moving linearly.
+///        Never reports "no contact" when there is one.
+CCDResult edge_edge_ccd(
+    const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0, const Vec3& eb1_t0,
+    const Vec3& ea0_t1, const Vec3& ea1_t1, const Vec3& eb0_t1, const Vec3& eb1_t1,
+    const CCDSettings& settings);
+
+} // namespace usdksl

@@ -1,0 +1,19 @@
+#pragma once
+/// @file vertex_face_ccd.hpp
+/// @brief Conservative continuous vertex-face test over one linear step.
+
+#include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/types.hpp"
+
+namespace usdksl {
+
+/// @brief Earliest time (fraction of the step) at which vertex p comes within
+///        settings.thickness of triangle (a,b,c), all moving linearly from
+///        their *_t0 to their *_t1 positions. Never reports "no contact" when
+///        there is one; contact already at the start gives toi = 0.
+CCDResult vertex_face_ccd(
+    const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+    const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+    const CCDSettings& settings);
+
+} // namespace usdksl

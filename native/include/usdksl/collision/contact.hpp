@@ -1,0 +1,33 @@
+#pragma once
+/// @file contact.hpp
+/// @brief A first contact between two triangles.
+
+#include "usdksl/narrow_phase/feature.hpp"
+
+#include <cstdint>
+#include <tuple>
+
+namespace usdksl {
+
+/// @brief First contact of one triangle pair. For self contacts mesh_a == mesh_b
+///        and tri_a < tri_b; for inter contacts mesh_a < mesh_b.
+struct Contact {
+    /// @brief Time of first contact in time codes (conservative: never late by
+    ///        more than nothing, early by at most the CCD tolerance of its step).
+    double time = 0.0;
+    int32_t mesh_a = 0;
+    int32_t tri_a = 0;
+    int32_t mesh_b = 0;
+    int32_t tri_b = 0;
+    ContactFeature feature = ContactFeature::VertexFace;
+    /// @brief True when the narrow phase hit its iteration cap (counted as contact).
+    bool undecided = false;
+};
+
+/// @brief Total order used for every contact list: time, then ids.
+inline bool contact_before(const Contact& x, const Contact& y) {
+    return std::tie(x.time, x.mesh_a, x.tri_a, x.mesh_b, x.tri_b) <
+           std::tie(y.time, y.mesh_a, y.tri_a, y.mesh_b, y.tri_b);
+}
+
+} // namespace usdksl

@@ -1,0 +1,16 @@
+"""usdksl: continuous collision checking of USD animation caches.
+
+The native core lives in the private ``usdksl._native`` module; the names a
+user needs are re-exported here.
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from . import _native  # noqa: F401  (re-exported below)
+
+try:
+    __version__ = version("usdksl")
+except PackageNotFoundError:  # running from a source tree without install
+    __version__ = "0.0.0"
+
+__all__ = ["__version__"]
