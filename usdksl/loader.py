@@ -78,17 +78,19 @@ class Shot:
 
 # --------------------------------------------------------------------------- opening
 
-_PXR_MESSAGE = re.compile(r"'(.*)'\s*$")
+_PXR_NAMESPACE = re.compile(r"pxrInternal_v\w*?__pxrReserved__::")
 
 
 def _pxr_error_text(error: Exception) -> str:
-    """The first quoted diagnostic of a Tf.ErrorException, without C++ file/line noise."""
-    for line in str(error).splitlines():
-        found = _PXR_MESSAGE.search(line.strip())
-        if found:
-            return found.group(1)
-    text = " ".join(str(error).split())
-    return text or type(error).__name__
+    """The diagnostics of a Tf.ErrorException on one line, without C++ function/file noise."""
+    messages = []
+    for entry in re.split(r"\n\s*Error in ", str(error)):
+        _, separator, message = entry.partition(" : '")
+        text = message.strip().rstrip("'") if separator else entry
+        text = " ".join(_PXR_NAMESPACE.sub("", text).split())
+        if text:
+            messages.append(text)
+    return "; ".join(messages) or type(error).__name__
 
 
 def open_stage(path: Union[str, os.PathLike]) -> Usd.Stage:

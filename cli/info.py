@@ -1,0 +1,55 @@
+"""``usdksl info SHOT``: what the checker would see in a shot, mesh by mesh."""
+
+import sys
+
+import click
+
+from ..errors import UsdkslInputError
+from ..loader import load_shot
+
+
+def _time_span(times) -> str:
+    if len(times) == 1:
+        return f"{times[0]:g}"
+    return f"{times[0]:g}..{times[-1]:g}"
+
+
+def _parse_time_range(ctx, param, value):
+    if value is None:
+        return None
+    start, end = value
+    if start > end:
+        raise click.BadParameter(f"start {start:g} is after end {end:g}")
+    return (start, end)
+
+
+@click.command()
+@click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--time-range", nargs=2, type=float, default=None, callback=_parse_time_range,
+              metavar="A B", help="Only the samples inside [A, B] (USD time codes), ends included.")
+def info(shot, time_range):
+    """Print each mesh of SHOT: faces, vertices, triangles, samples, time range, classification."""
+    try:
+        loaded = load_shot(shot, time_range=time_range)
+    except UsdkslInputError as error:
+        click.echo(f"usdksl: error: {error}", err=True)
+        sys.exit(UsdkslInputError.exit_code)
+
+    rows = [(mesh.path, str(mesh.face_count), str(mesh.vertex_count), str(mesh.triangle_count),
+             str(mesh.sample_count), _time_span(mesh.times), mesh.kind) for mesh in loaded.meshes]
+    header = ("prim", "faces", "vertices", "triangles", "samples", "time", "kind")
+    widths = [max(len(row[i]) for row in rows + [header]) for i in range(len(header))]
+
+    def line(row):
+        cells = [row[0].ljust(widths[0])] + [cell.rjust(width) for cell, width in
+                                             zip(row[1:-1], widths[1:-1])] + [row[-1]]
+        return "  ".join(cells)
+
+    click.echo(line(header))
+    for row in rows:
+        click.echo(line(row))
+    metadata = loaded.metadata
+    click.echo(f"shot: {len(loaded.meshes)} meshes, {len(loaded.times)} time samples, "
+               f"time {_time_span(loaded.times)}, "
+               f"timeCodesPerSecond {metadata['timeCodesPerSecond']:g}, "
+               f"upAxis {metadata['upAxis']}, metersPerUnit {metadata['metersPerUnit']:g}")
