@@ -15,6 +15,7 @@ def _register():
     from .info import info
 
     main.add_command(info)
+    from .crosscheck import crosscheck; main.add_command(crosscheck)  # noqa: E702
 
 
 _register()
