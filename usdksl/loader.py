@@ -304,11 +304,12 @@ class _MatrixCache:
 
 def _to_world(local: np.ndarray, matrix: np.ndarray, out: np.ndarray) -> None:
     """out = [local, 1] @ matrix (USD row vectors), projective matrices included."""
-    np.matmul(local, matrix[:3, :3], out=out)
-    out += matrix[3, :3]
-    if not np.array_equal(matrix[:, 3], (0.0, 0.0, 0.0, 1.0)):
-        w = local @ matrix[:3, 3] + matrix[3, 3]
-        out /= w[:, None]
+    with np.errstate(invalid="ignore", over="ignore"):   # non-finite input is reported by the caller
+        np.matmul(local, matrix[:3, :3], out=out)
+        out += matrix[3, :3]
+        if not np.array_equal(matrix[:, 3], (0.0, 0.0, 0.0, 1.0)):
+            w = local @ matrix[:3, 3] + matrix[3, 3]
+            out /= w[:, None]
 
 
 def _read_points(file: str, path: str, attribute: Usd.Attribute, time: float) -> np.ndarray:
