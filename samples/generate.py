@@ -266,7 +266,7 @@ def scene_character(shot: KeyframedShot, triangles: int, rng: np.random.Generato
 
     limb_points, l_counts, l_indices = capsule(0.05, 0.22, segments, rings)
     hanging = limb_points - (0.0, 0.27, 0.0)     # pivot at the top end
-    swing = 2 * math.pi * 2                      # two strides over the shot
+    swing = 2 * math.pi * 2.3                    # strides incommensurate with any key spacing
     for side, sign in (("Left", 1.0), ("Right", -1.0)):
         # arms swing forward/back and inward: at the inner extreme they brush the shirt
         shot.animated_xform(f"/World/Character/{side}Shoulder",
