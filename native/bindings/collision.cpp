@@ -1,0 +1,125 @@
+/// @file collision.cpp
+/// @brief Binds find_contacts: numpy arrays in, numpy arrays out.
+
+#include "usdksl/collision/check.hpp"
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace py = pybind11;
+using namespace usdksl;
+
+namespace {
+
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+
+MeshAnimation to_mesh(const py::handle& item, size_t index) {
+    const py::tuple t = py::reinterpret_borrow<py::tuple>(item);
+    if (t.size() != 4) throw std::invalid_argument("mesh must be (times, points, triangles, triangle_face)");
+    const DoubleArray times = t[0].cast<DoubleArray>();
+    const DoubleArray points = t[1].cast<DoubleArray>();
+    const IntArray triangles = t[2].cast<IntArray>();
+    const IntArray faces = t[3].cast<IntArray>();
+    const std::string where = "mesh " + std::to_string(index) + ": ";
+    if (times.ndim() != 1) throw std::invalid_argument(where + "times must be 1-D");
+    if (points.ndim() != 3 || points.shape(0) != times.shape(0) || points.shape(2) != 3)
+        throw std::invalid_argument(where + "points must have shape (len(times), N, 3)");
+    if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw std::invalid_argument(where + "triangles must be (M, 3)");
+    if (faces.ndim() != 1 || faces.shape(0) != triangles.shape(0))
+        throw std::invalid_argument(where + "triangle_face must have one entry per triangle");
+    MeshAnimation mesh;
+    mesh.times.assign(times.data(), times.data() + times.size());
+    mesh.points.assign(points.data(), points.data() + points.size());
+    mesh.vertex_count = static_cast<int32_t>(points.shape(1));
+    mesh.triangles.resize(static_cast<size_t>(triangles.shape(0)));
+    std::memcpy(mesh.triangles.data(), triangles.data(), sizeof(int32_t) * static_cast<size_t>(triangles.size()));
+    mesh.triangle_face.assign(faces.data(), faces.data() + faces.size());
+    return mesh;
+}
+
+Method to_method(const std::string& name) {
+    if (name == "ksl") return Method::KineticSeparationList;
+    if (name == "swept") return Method::SweptVolume;
+    if (name == "discrete") return Method::Discrete;
+    if (name == "brute") return Method::BruteForce;
+    throw std::invalid_argument("unknown method '" + name + "' (ksl, swept, discrete, brute)");
+}
+
+template <typename T, typename F>
+py::array_t<T> column(const std::vector<Contact>& contacts, F get) {
+    py::array_t<T> out(static_cast<py::ssize_t>(contacts.size()));
+    T* data = out.mutable_data();
+    for (size_t i = 0; i < contacts.size(); ++i) data[i] = get(contacts[i]);
+    return out;
+}
+
+py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, const std::string& method,
+                          double t_begin, double t_end, double tolerance, double thickness, int64_t max_iterations,
+                          int32_t discrete_substeps, const py::object& progress) {
+    std::vector<MeshAnimation> meshes;
+    meshes.reserve(meshes_in.size());
+    for (size_t i = 0; i < meshes_in.size(); ++i) meshes.push_back(to_mesh(meshes_in[i], i));
+    if (pairs_in.size() != 0 && (pairs_in.ndim() != 2 || pairs_in.shape(1) != 2))
+        throw std::invalid_argument("pairs must have shape (P, 2)");
+    std::vector<std::pair<int32_t, int32_t>> pairs;
+    for (py::ssize_t i = 0; i < (pairs_in.size() ? pairs_in.shape(0) : 0); ++i)
+        pairs.emplace_back(pairs_in.at(i, 0), pairs_in.at(i, 1));
+    CheckOptions options;
+    options.method = to_method(method);
+    options.t_begin = t_begin;
+    options.t_end = t_end;
+    options.ccd.tolerance = tolerance;
+    options.ccd.thickness = thickness;
+    options.ccd.max_iterations = max_iterations;
+    options.discrete_substeps = discrete_substeps;
+    if (!progress.is_none()) {
+        options.progress = [progress](double t, int64_t contacts) {
+            py::gil_scoped_acquire gil;
+            progress(t, contacts);
+        };
+    }
+    CheckResult result;
+    {
+        py::gil_scoped_release release;
+        result = find_contacts(meshes, pairs, options);
+    }
+    const std::vector<Contact>& c = result.contacts;
+    py::dict out;
+    out["time"] = column<double>(c, [](const Contact& x) { return x.time; });
+    out["mesh_a"] = column<int32_t>(c, [](const Contact& x) { return x.mesh_a; });
+    out["tri_a"] = column<int32_t>(c, [](const Contact& x) { return x.tri_a; });
+    out["mesh_b"] = column<int32_t>(c, [](const Contact& x) { return x.mesh_b; });
+    out["tri_b"] = column<int32_t>(c, [](const Contact& x) { return x.tri_b; });
+    out["feature"] = column<int8_t>(c, [](const Contact& x) { return static_cast<int8_t>(x.feature); });
+    out["undecided"] = column<bool>(c, [](const Contact& x) { return x.undecided; });
+    const Counters& k = result.counters;
+    py::dict counters;
+    counters["kinetic_tree_events"] = k.kinetic_tree_events;
+    counters["bv_overlap_events"] = k.bv_overlap_events;
+    counters["fathers_do_not_overlap_events"] = k.fathers_do_not_overlap_events;
+    counters["leaves_do_not_overlap_events"] = k.leaves_do_not_overlap_events;
+    counters["polygons_collide_events"] = k.polygons_collide_events;
+    counters["bv_change_events"] = k.bv_change_events;
+    counters["bv_tests"] = k.bv_tests;
+    counters["narrow_phase_tests"] = k.narrow_phase_tests;
+    counters["primitive_queries"] = k.primitive_queries;
+    counters["undecided_queries"] = k.undecided_queries;
+    out["counters"] = counters;
+    return out;
+}
+
+} // namespace
+
+void define_collision(py::module_& m) {
+    m.def("find_contacts", &find_contacts_py, py::arg("meshes"), py::arg("pairs"), py::arg("method"),
+          py::arg("t_begin"), py::arg("t_end"), py::arg("tolerance"), py::arg("thickness"),
+          py::arg("max_iterations"), py::arg("discrete_substeps"), py::arg("progress"),
+          "First contact of every triangle pair of the given mesh pairs over [t_begin, t_end] (time codes).");
+}

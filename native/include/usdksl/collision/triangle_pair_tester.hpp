@@ -1,0 +1,62 @@
+#pragma once
+/// @file triangle_pair_tester.hpp
+/// @brief Runs the shared narrow phase on triangle pairs over their flightplan
+///        steps and keeps the first contact of each pair.
+
+#include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/collision/contact.hpp"
+#include "usdksl/collision/counters.hpp"
+#include "usdksl/collision/scene.hpp"
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace usdksl {
+
+/// @brief One linear step of a triangle pair: between consecutive breakpoints
+///        of the union of its six vertices' flightplans (time codes).
+struct PairStep {
+    double begin;
+    double end;
+    bool valid() const { return end > begin; }
+};
+
+/// @brief Tests triangle pairs and records each pair's first contact. Every
+///        method goes through it, so equal inputs give equal contact times.
+class TrianglePairTester {
+public:
+    TrianglePairTester(const Scene& scene, const CCDSettings& settings, Counters& counters);
+
+    /// @brief The pair's step containing time code t ([begin, end) with
+    ///        begin <= t < end); invalid when no vertex moves after t.
+    PairStep step_containing(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t) const;
+
+    /// @brief True when the pair can never be reported: same triangle, same
+    ///        authored face of one mesh, or already has its first contact.
+    bool settled(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
+
+    /// @brief Continuous test over the whole step; records and returns true on contact.
+    bool test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, const PairStep& step);
+
+    /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
+    bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);
+
+    /// @brief First contacts found so far, in discovery order.
+    const std::vector<Contact>& contacts() const { return contacts_; }
+    /// @brief The contacts sorted by contact_before.
+    std::vector<Contact> sorted_contacts() const;
+
+private:
+    uint64_t key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
+    void record(Contact contact);
+
+    const Scene& scene_;
+    CCDSettings settings_;
+    Counters& counters_;
+    std::vector<int64_t> triangle_offset_;
+    std::unordered_map<uint64_t, size_t> found_;
+    std::vector<Contact> contacts_;
+};
+
+} // namespace usdksl

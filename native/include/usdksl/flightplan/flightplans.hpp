@@ -1,0 +1,65 @@
+#pragma once
+/// @file flightplans.hpp
+/// @brief Piecewise-linear vertex trajectories of one mesh, stored per vertex.
+
+#include "usdksl/collision/mesh_animation.hpp"
+#include "usdksl/types.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace usdksl {
+
+/// @brief The flightplans of every vertex of one mesh. Each vertex keeps its
+///        own breakpoints (time codes) because consecutive collinear segments
+///        merge: a keyframe animation densely resampled costs what its
+///        keyframes cost. Before the first and after the last breakpoint a
+///        vertex holds still (USD's value clamping).
+class Flightplans {
+public:
+    Flightplans() = default;
+
+    /// @brief Builds the flightplans of `mesh`. With `merge_collinear`, a
+    ///        breakpoint is dropped when the vertex passes through it on a
+    ///        straight line at constant speed, within
+    ///        FLIGHTPLAN_COLLINEAR_TOLERANCE times the scene scale.
+    Flightplans(const MeshAnimation& mesh, bool merge_collinear);
+
+    int32_t vertex_count() const { return static_cast<int32_t>(offsets_.size()) - 1; }
+
+    /// @brief Index range [key_begin(v), key_end(v)) of vertex v's breakpoints.
+    int64_t key_begin(int32_t v) const { return offsets_[v]; }
+    int64_t key_end(int32_t v) const { return offsets_[v + 1]; }
+
+    /// @brief Time code of breakpoint k.
+    double key_time(int64_t k) const { return key_times_[k]; }
+    /// @brief Coordinate `axis` of breakpoint k.
+    double key_coord(int64_t k, int axis) const { return key_points_[3 * k + axis]; }
+
+    /// @brief Breakpoint index of v's segment containing time t: the last k with
+    ///        key_time(k) <= t, or key_begin(v) when t is before every breakpoint.
+    int64_t segment_of(int32_t v, double t) const;
+
+    /// @brief Coordinate `axis` of vertex v at time code t.
+    double coord(int32_t v, int axis, double t) const;
+
+    /// @brief Position of vertex v at time code t.
+    Vec3 position(int32_t v, double t) const;
+
+    /// @brief Earliest breakpoint of v strictly after time code t (+inf when none).
+    double next_breakpoint(int32_t v, double t) const;
+
+    /// @brief Largest absolute coordinate over every breakpoint (scene units).
+    double max_abs_coordinate() const { return max_abs_coordinate_; }
+
+    /// @brief Total number of breakpoints kept (after merging).
+    int64_t breakpoint_count() const { return static_cast<int64_t>(key_times_.size()); }
+
+private:
+    std::vector<int64_t> offsets_;
+    std::vector<double> key_times_;
+    std::vector<double> key_points_;
+    double max_abs_coordinate_ = 0.0;
+};
+
+} // namespace usdksl

@@ -1,0 +1,104 @@
+#pragma once
+/// @file separation_list.hpp
+/// @brief Kinetic separation lists (paper section 5): the BVTT front of every
+///        checked mesh pair (or mesh against itself), kept valid by events.
+
+#include "usdksl/collision/check.hpp"
+#include "usdksl/collision/scene.hpp"
+#include "usdksl/collision/triangle_pair_tester.hpp"
+#include "usdksl/kinetic/event_queue.hpp"
+#include "usdksl/kinetic/kinetic_aabb_tree.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace usdksl {
+
+/// @brief All separation lists of one check, sharing one kinetic AABB tree per
+///        mesh and one event queue. Each list entry is a BVTT node: a pair of
+///        tree nodes that does not overlap (with the father it hangs from), or
+///        an overlapping pair of leaves whose triangles the narrow phase tests
+///        on every flightplan step while they keep overlapping.
+class KineticSeparationLists {
+public:
+    KineticSeparationLists(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                           TrianglePairTester& tester, Counters& counters, double t_begin, double t_end,
+                           double thickness);
+
+    /// @brief Processes every event up to t_end (time codes).
+    void run(const ProgressCallback& progress);
+
+    /// @brief Number of live list entries (for memory measurements).
+    size_t entry_count() const { return live_entries_; }
+
+private:
+    struct List {
+        int32_t mesh_a;
+        int32_t mesh_b;
+        bool self;
+        std::unordered_map<uint64_t, int32_t> index;  // (a << 32 | b) -> entry
+    };
+    struct Entry {
+        int32_t list = -1;
+        int32_t a = -1, b = -1;      // tree nodes (mesh_a's tree, mesh_b's tree)
+        int32_t fa = -1, fb = -1;    // BVTT father, -1 for the root pair
+        bool overlapping_leaf = false;
+        bool inert = false;          // overlapping leaf whose triangle pair is settled
+        double tested_until = -1e300;  // end of the last flightplan step the narrow phase covered
+        int32_t slot_a = -1, slot_b = -1;  // positions in the node entry lists
+        bool alive = false;
+    };
+    struct NodeRef { int32_t entry; int32_t side; };  // side 0: node is entry.a, 1: entry.b
+    struct NodePair { int32_t a, b; };
+
+    // BVTT structure
+    NodePair normalized(const List& list, int32_t a, int32_t b) const;
+    bool father_of(const List& list, int32_t a, int32_t b, NodePair& father) const;
+    int children_of(const List& list, int32_t a, int32_t b, NodePair out[4]) const;
+    bool both_leaves(const List& list, int32_t a, int32_t b) const;
+
+    // Kinetic geometry
+    bool overlaps(const List& list, int32_t a, int32_t b, double t);
+    double separation_time(const List& list, int32_t a, int32_t b, double t);
+    double overlap_time(const List& list, int32_t a, int32_t b, double t);
+
+    // Front maintenance
+    int32_t create_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, bool overlapping_leaf, double t);
+    void remove_entry(int32_t id);
+    void expand(int32_t list, int32_t a, int32_t b, double t);
+    void remove_descendants(int32_t list, int32_t a, int32_t b);
+    void narrow_phase(Entry& entry, double t);
+    void schedule(int32_t id, double t);
+
+    // Events
+    void process_tree_event(int64_t handle, double t);
+    void process_entry_event(int32_t id, double t);
+    void node_changed(int32_t mesh, int32_t node, double t);
+
+    std::vector<NodeRef>& node_entries(int32_t mesh, int32_t node) { return node_entries_[mesh][node]; }
+
+    const Scene& scene_;
+    TrianglePairTester& tester_;
+    Counters& counters_;
+    double t_begin_, t_end_, thickness_;
+    bool initializing_ = false;
+
+    std::vector<std::unique_ptr<KineticAabbTree>> trees_;  // per mesh, null when unused
+    std::vector<int64_t> tree_handle_base_;                // per mesh
+    std::vector<std::vector<std::vector<NodeRef>>> node_entries_;
+    int64_t entry_handle_base_ = 0;
+    std::vector<List> lists_;
+    std::vector<Entry> entries_;
+    std::vector<int32_t> free_entries_;
+    size_t live_entries_ = 0;
+    std::vector<double> margin_;  // per list: thickness + slack of both trees + padding
+    EventQueue queue_;
+    std::vector<int32_t> pending_reschedule_;
+    std::vector<uint32_t> reschedule_stamp_;
+    uint32_t stamp_ = 0;
+};
+
+} // namespace usdksl

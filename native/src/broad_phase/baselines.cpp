@@ -1,0 +1,126 @@
+#include "usdksl/broad_phase/baselines.hpp"
+
+#include "usdksl/broad_phase/aabb_tree.hpp"
+#include "usdksl/broad_phase/sample_times.hpp"
+
+#include <memory>
+#include <unordered_map>
+
+namespace usdksl {
+namespace {
+
+std::vector<std::unique_ptr<AabbTree>> build_trees(const Scene& scene,
+                                                   const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                                                   double t_build) {
+    std::vector<std::unique_ptr<AabbTree>> trees(scene.meshes.size());
+    for (const auto& [a, b] : mesh_pairs) {
+        for (int32_t m : {a, b}) {
+            if (!trees[m]) trees[m] = std::make_unique<AabbTree>(scene, m, t_build);
+        }
+    }
+    return trees;
+}
+
+void refit_all(std::vector<std::unique_ptr<AabbTree>>& trees, double t0, double t1, double padding) {
+    for (auto& tree : trees) {
+        if (tree) tree->refit(t0, t1, padding);
+    }
+}
+
+uint64_t ordered_key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) {
+    // Meshes and triangles each fit 32 bits; mix them into one key per ordered pair.
+    return (static_cast<uint64_t>(static_cast<uint32_t>(mesh_a)) * 0x9E3779B97F4A7C15ULL) ^
+           (static_cast<uint64_t>(static_cast<uint32_t>(tri_a)) << 32) ^
+           (static_cast<uint64_t>(static_cast<uint32_t>(mesh_b)) * 0xC2B2AE3D27D4EB4FULL) ^
+           static_cast<uint64_t>(static_cast<uint32_t>(tri_b));
+}
+
+} // namespace
+
+void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                      const CheckOptions& options, TrianglePairTester& tester, Counters& counters) {
+    const std::vector<double> times = merged_sample_times(scene, mesh_pairs, options.t_begin, options.t_end);
+    auto trees = build_trees(scene, mesh_pairs, options.t_begin);
+    const double padding = 0.5 * options.ccd.thickness + BOX_PADDING * scene.scale;
+    // End of the flightplan step already tested per (ordered) triangle pair, so a
+    // step spanning several intervals is tested once, as KSL tests it.
+    std::unordered_map<uint64_t, double> tested_until;
+    // Static test at the range start, on boxes of that instant.
+    refit_all(trees, options.t_begin, options.t_begin, padding);
+    for (const auto& [ma, mb] : mesh_pairs) {
+        if (!trees[ma] || !trees[mb]) continue;
+        for_each_overlapping_leaf_pair(*trees[ma], *trees[mb], ma == mb, &counters.bv_tests,
+                                       [&](int32_t ta, int32_t tb) {
+                                           if (!tester.settled(ma, ta, mb, tb)) tester.test_static(ma, ta, mb, tb, options.t_begin);
+                                       });
+    }
+    for (size_t i = 0; i + 1 < times.size(); ++i) {
+        const double t0 = times[i], t1 = times[i + 1];
+        refit_all(trees, t0, t1, padding);
+        for (const auto& [ma, mb] : mesh_pairs) {
+            if (!trees[ma] || !trees[mb]) continue;
+            for_each_overlapping_leaf_pair(
+                *trees[ma], *trees[mb], ma == mb, &counters.bv_tests, [&](int32_t ta, int32_t tb) {
+                    if (tester.settled(ma, ta, mb, tb)) return;
+                    const PairStep step = tester.step_containing(ma, ta, mb, tb, t0);
+                    if (!step.valid()) return;
+                    double& done = tested_until.try_emplace(ordered_key(ma, ta, mb, tb), -1e300).first->second;
+                    if (step.end <= done) return;
+                    done = step.end;
+                    tester.test_step(ma, ta, mb, tb, step);
+                });
+        }
+        if (options.progress) options.progress(t1, static_cast<int64_t>(tester.contacts().size()));
+    }
+}
+
+void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                  const CheckOptions& options, TrianglePairTester& tester, Counters& counters) {
+    const std::vector<double> samples = merged_sample_times(scene, mesh_pairs, options.t_begin, options.t_end);
+    const int32_t substeps = std::max<int32_t>(1, options.discrete_substeps);
+    std::vector<double> instants;
+    for (size_t i = 0; i < samples.size(); ++i) {
+        instants.push_back(samples[i]);
+        if (i + 1 == samples.size()) break;
+        for (int32_t s = 1; s < substeps; ++s) {
+            instants.push_back(samples[i] + (samples[i + 1] - samples[i]) * s / substeps);
+        }
+    }
+    auto trees = build_trees(scene, mesh_pairs, options.t_begin);
+    const double padding = 0.5 * options.ccd.thickness + BOX_PADDING * scene.scale;
+    for (double t : instants) {
+        refit_all(trees, t, t, padding);
+        for (const auto& [ma, mb] : mesh_pairs) {
+            if (!trees[ma] || !trees[mb]) continue;
+            for_each_overlapping_leaf_pair(*trees[ma], *trees[mb], ma == mb, &counters.bv_tests,
+                                           [&](int32_t ta, int32_t tb) {
+                                               if (!tester.settled(ma, ta, mb, tb)) tester.test_static(ma, ta, mb, tb, t);
+                                           });
+        }
+        if (options.progress) options.progress(t, static_cast<int64_t>(tester.contacts().size()));
+    }
+}
+
+void run_brute_force(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                     const CheckOptions& options, TrianglePairTester& tester) {
+    for (const auto& [ma, mb] : mesh_pairs) {
+        const int32_t na = static_cast<int32_t>(scene.meshes[ma].triangles.size());
+        const int32_t nb = static_cast<int32_t>(scene.meshes[mb].triangles.size());
+        for (int32_t ta = 0; ta < na; ++ta) {
+            for (int32_t tb = (ma == mb ? ta + 1 : 0); tb < nb; ++tb) {
+                if (tester.settled(ma, ta, mb, tb)) continue;
+                if (tester.test_static(ma, ta, mb, tb, options.t_begin)) continue;
+                double t = options.t_begin;
+                while (true) {
+                    const PairStep step = tester.step_containing(ma, ta, mb, tb, t);
+                    if (!step.valid() || step.begin >= options.t_end) break;
+                    if (tester.test_step(ma, ta, mb, tb, step)) break;
+                    t = step.end;
+                }
+            }
+        }
+        if (options.progress) options.progress(options.t_end, static_cast<int64_t>(tester.contacts().size()));
+    }
+}
+
+} // namespace usdksl

@@ -1,0 +1,126 @@
+#include "usdksl/collision/triangle_pair_tester.hpp"
+
+#include "usdksl/narrow_phase/triangle_pair.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace usdksl {
+
+TrianglePairTester::TrianglePairTester(const Scene& scene, const CCDSettings& settings, Counters& counters)
+    : scene_(scene), settings_(settings), counters_(counters) {
+    triangle_offset_.push_back(0);
+    for (const MeshAnimation& mesh : scene.meshes) {
+        triangle_offset_.push_back(triangle_offset_.back() + static_cast<int64_t>(mesh.triangles.size()));
+    }
+}
+
+uint64_t TrianglePairTester::key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const {
+    uint64_t a = static_cast<uint64_t>(triangle_offset_[mesh_a] + tri_a);
+    uint64_t b = static_cast<uint64_t>(triangle_offset_[mesh_b] + tri_b);
+    if (a > b) std::swap(a, b);
+    return (a << 32) | b;
+}
+
+PairStep TrianglePairTester::step_containing(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
+                                             double t) const {
+    double begin = -std::numeric_limits<double>::infinity();
+    double end = std::numeric_limits<double>::infinity();
+    const auto widen = [&](int32_t mesh, int32_t tri) {
+        const Flightplans& plans = scene_.plans[mesh];
+        for (int32_t v : scene_.meshes[mesh].triangles[tri]) {
+            const int64_t k = plans.segment_of(v, t);
+            const double kt = plans.key_time(k);
+            if (kt <= t) {
+                begin = std::max(begin, kt);
+                if (k + 1 < plans.key_end(v)) end = std::min(end, plans.key_time(k + 1));
+            } else {
+                end = std::min(end, kt);  // t precedes v's first breakpoint: v holds still until kt
+            }
+        }
+    };
+    widen(mesh_a, tri_a);
+    widen(mesh_b, tri_b);
+    if (!std::isfinite(end)) return {t, t};
+    if (!std::isfinite(begin)) begin = std::min(t, end);
+    return {begin, end};
+}
+
+bool TrianglePairTester::settled(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const {
+    if (mesh_a == mesh_b) {
+        if (tri_a == tri_b) return true;
+        const std::vector<int32_t>& face = scene_.meshes[mesh_a].triangle_face;
+        if (!face.empty() && face[tri_a] == face[tri_b]) return true;
+    }
+    return found_.count(key(mesh_a, tri_a, mesh_b, tri_b)) != 0;
+}
+
+bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
+                                   const PairStep& step) {
+    if (!step.valid()) return false;
+    ++counters_.narrow_phase_tests;
+    const std::array<Vec3, 3> a0 = scene_.triangle_at(mesh_a, tri_a, step.begin);
+    const std::array<Vec3, 3> a1 = scene_.triangle_at(mesh_a, tri_a, step.end);
+    const std::array<Vec3, 3> b0 = scene_.triangle_at(mesh_b, tri_b, step.begin);
+    const std::array<Vec3, 3> b1 = scene_.triangle_at(mesh_b, tri_b, step.end);
+    const MovingTriangle a{scene_.meshes[mesh_a].triangles[tri_a], a0, a1};
+    const MovingTriangle b{scene_.meshes[mesh_b].triangles[tri_b], b0, b1};
+    const TrianglePairContact hit = triangle_pair_ccd(a, b, mesh_a == mesh_b, settings_);
+    counters_.primitive_queries += hit.queries;
+    if (hit.undecided) ++counters_.undecided_queries;
+    if (!hit.hit) return false;
+    Contact contact;
+    contact.time = step.begin + hit.toi * (step.end - step.begin);
+    contact.mesh_a = mesh_a;
+    contact.tri_a = tri_a;
+    contact.mesh_b = mesh_b;
+    contact.tri_b = tri_b;
+    contact.feature = hit.feature;
+    contact.undecided = hit.undecided;
+    record(contact);
+    return true;
+}
+
+bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t) {
+    ++counters_.narrow_phase_tests;
+    const bool hit = triangle_pair_intersect_static(
+        scene_.meshes[mesh_a].triangles[tri_a], scene_.triangle_at(mesh_a, tri_a, t),
+        scene_.meshes[mesh_b].triangles[tri_b], scene_.triangle_at(mesh_b, tri_b, t), mesh_a == mesh_b,
+        settings_.thickness);
+    if (!hit) return false;
+    Contact contact;
+    contact.time = t;
+    contact.mesh_a = mesh_a;
+    contact.tri_a = tri_a;
+    contact.mesh_b = mesh_b;
+    contact.tri_b = tri_b;
+    contact.feature = ContactFeature::Static;
+    record(contact);
+    return true;
+}
+
+void TrianglePairTester::record(Contact contact) {
+    // Canonical order: inter pairs mesh_a < mesh_b, self pairs tri_a < tri_b.
+    if (contact.mesh_a > contact.mesh_b || (contact.mesh_a == contact.mesh_b && contact.tri_a > contact.tri_b)) {
+        std::swap(contact.mesh_a, contact.mesh_b);
+        std::swap(contact.tri_a, contact.tri_b);
+        if (contact.feature == ContactFeature::VertexFace) contact.feature = ContactFeature::FaceVertex;
+        else if (contact.feature == ContactFeature::FaceVertex) contact.feature = ContactFeature::VertexFace;
+    }
+    const uint64_t k = key(contact.mesh_a, contact.tri_a, contact.mesh_b, contact.tri_b);
+    auto it = found_.find(k);
+    if (it == found_.end()) {
+        found_.emplace(k, contacts_.size());
+        contacts_.push_back(contact);
+    } else if (contact_before(contact, contacts_[it->second])) {
+        contacts_[it->second] = contact;
+    }
+}
+
+std::vector<Contact> TrianglePairTester::sorted_contacts() const {
+    std::vector<Contact> sorted = contacts_;
+    std::sort(sorted.begin(), sorted.end(), contact_before);
+    return sorted;
+}
+
+} // namespace usdksl

@@ -1,0 +1,116 @@
+#include "usdksl/flightplan/flightplans.hpp"
+
+#include "usdksl/constants.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace usdksl {
+namespace {
+
+/// Distance (infinity norm) of sample j from the straight constant-speed path
+/// between samples i and k.
+double deviation_from_chord(const MeshAnimation& mesh, int32_t v, int64_t i, int64_t j, int64_t k) {
+    const double ti = mesh.times[i], tj = mesh.times[j], tk = mesh.times[k];
+    const double w = (tj - ti) / (tk - ti);
+    const size_t n = static_cast<size_t>(mesh.vertex_count);
+    double worst = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double pi = mesh.points[(i * n + v) * 3 + axis];
+        const double pj = mesh.points[(j * n + v) * 3 + axis];
+        const double pk = mesh.points[(k * n + v) * 3 + axis];
+        worst = std::max(worst, std::abs(pi + w * (pk - pi) - pj));
+    }
+    return worst;
+}
+
+} // namespace
+
+Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
+    const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
+    const int32_t n = mesh.vertex_count;
+    if (sample_count < 1 || n < 0 ||
+        mesh.points.size() != static_cast<size_t>(sample_count) * static_cast<size_t>(n) * 3) {
+        throw std::invalid_argument("flightplans: points do not match times x vertex_count x 3");
+    }
+    for (int64_t k = 1; k < sample_count; ++k) {
+        if (!(mesh.times[k] > mesh.times[k - 1])) {
+            throw std::invalid_argument("flightplans: sample times must be strictly increasing");
+        }
+    }
+    for (double c : mesh.points) {
+        if (!std::isfinite(c)) throw std::invalid_argument("flightplans: non-finite point coordinate");
+        max_abs_coordinate_ = std::max(max_abs_coordinate_, std::abs(c));
+    }
+    const double merge_tolerance = FLIGHTPLAN_COLLINEAR_TOLERANCE * std::max(1.0, max_abs_coordinate_);
+
+    offsets_.reserve(static_cast<size_t>(n) + 1);
+    offsets_.push_back(0);
+    std::vector<int64_t> kept;
+    kept.reserve(static_cast<size_t>(sample_count));
+    for (int32_t v = 0; v < n; ++v) {
+        kept.clear();
+        kept.push_back(0);
+        for (int64_t k = 1; k < sample_count; ++k) {
+            if (merge_collinear && k + 1 < sample_count) {
+                // Drop sample k when every sample since the last kept one lies on
+                // the chord from the last kept sample to sample k + 1.
+                const int64_t anchor = kept.back();
+                bool on_chord = true;
+                for (int64_t j = anchor + 1; j <= k && on_chord; ++j) {
+                    on_chord = deviation_from_chord(mesh, v, anchor, j, k + 1) <= merge_tolerance;
+                }
+                if (on_chord) continue;
+            }
+            kept.push_back(k);
+        }
+        // A vertex that never moves keeps a single breakpoint.
+        if (merge_collinear && kept.size() == 2) {
+            bool still = true;
+            for (int axis = 0; axis < 3; ++axis) {
+                still = still && mesh.points[(static_cast<size_t>(kept[0]) * n + v) * 3 + axis] ==
+                                     mesh.points[(static_cast<size_t>(kept[1]) * n + v) * 3 + axis];
+            }
+            if (still) kept.pop_back();
+        }
+        for (int64_t k : kept) {
+            key_times_.push_back(mesh.times[k]);
+            for (int axis = 0; axis < 3; ++axis) {
+                key_points_.push_back(mesh.points[(static_cast<size_t>(k) * n + v) * 3 + axis]);
+            }
+        }
+        offsets_.push_back(static_cast<int64_t>(key_times_.size()));
+    }
+}
+
+int64_t Flightplans::segment_of(int32_t v, double t) const {
+    const auto first = key_times_.begin() + offsets_[v];
+    const auto last = key_times_.begin() + offsets_[v + 1];
+    auto it = std::upper_bound(first, last, t);
+    if (it == first) return offsets_[v];
+    return static_cast<int64_t>(it - key_times_.begin()) - 1;
+}
+
+double Flightplans::coord(int32_t v, int axis, double t) const {
+    const int64_t k = segment_of(v, t);
+    if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return key_points_[3 * k + axis];
+    const double t0 = key_times_[k], t1 = key_times_[k + 1];
+    const double p0 = key_points_[3 * k + axis], p1 = key_points_[3 * (k + 1) + axis];
+    const double w = (t - t0) / (t1 - t0);
+    return p0 + w * (p1 - p0);
+}
+
+Vec3 Flightplans::position(int32_t v, double t) const {
+    return Vec3(coord(v, 0, t), coord(v, 1, t), coord(v, 2, t));
+}
+
+double Flightplans::next_breakpoint(int32_t v, double t) const {
+    const auto first = key_times_.begin() + offsets_[v];
+    const auto last = key_times_.begin() + offsets_[v + 1];
+    auto it = std::upper_bound(first, last, t);
+    return it == last ? std::numeric_limits<double>::infinity() : *it;
+}
+
+} // namespace usdksl
