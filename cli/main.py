@@ -15,6 +15,7 @@ def _register():
     from .info import info
 
     main.add_command(info)
+    from .check import check; main.add_command(check)  # noqa: E702
     from .crosscheck import crosscheck; main.add_command(crosscheck)  # noqa: E702
 
 

@@ -1,0 +1,145 @@
+"""The ``<stem>.usdksl.usda`` override layer: the results of a check written back into USD.
+
+The layer sublayers the input by a relative path (so the pair of files can move together) and copies the
+input's stage metadata (timeCodesPerSecond, framesPerSecond, start/end time codes, upAxis,
+metersPerUnit, defaultPrim): without them the sublayered cache's samples would be rescaled (DESIGN.md,
+Known traps). It only authors ``over`` opinions; the input file is never opened for writing.
+
+Per checked mesh it authors:
+
+``int usdksl:contactFaceCount``
+    how many of the mesh's authored faces touch anything (0 when clean);
+``rel usdksl:contactsWith``
+    the meshes it touches (itself included for self contacts), sorted; no targets when clean;
+``double usdksl:firstContactTime``
+    its first contact in time codes; **absent when the mesh is clean**, so ``Get()`` returns None;
+``double[] primvars:usdksl:firstContactTime`` (interpolation uniform)
+    one value per authored face: that face's first contact time, **NaN for faces that never touch**
+    (time codes may be negative, so no sentinel number is safe);
+``color3f[] primvars:displayColor`` (interpolation uniform)
+    red for faces that touch, neutral grey for the others, so usdview shows where. Any
+    ``primvars:displayColor:indices`` the input authors is blocked, or it would re-index the colours.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Dict, Iterable, Sequence, Union
+
+import numpy as np
+
+CONTACT_COLOR = (1.0, 0.1, 0.1)
+CLEAN_COLOR = (0.6, 0.6, 0.6)
+
+ATTR_FIRST_CONTACT_TIME = "usdksl:firstContactTime"
+ATTR_CONTACT_FACE_COUNT = "usdksl:contactFaceCount"
+REL_CONTACTS_WITH = "usdksl:contactsWith"
+PRIMVAR_FIRST_CONTACT_TIME = "primvars:usdksl:firstContactTime"
+PRIMVAR_DISPLAY_COLOR = "primvars:displayColor"
+
+_COPIED_LAYER_FIELDS = ("timeCodesPerSecond", "framesPerSecond", "startTimeCode", "endTimeCode")
+_COPIED_STAGE_FIELDS = ("upAxis", "metersPerUnit")
+
+
+def relative_sublayer_path(input_path: Union[str, os.PathLike], layer_directory: Union[str, os.PathLike]) -> str:
+    """The input as seen from the override layer's directory, always anchored ('./' or '../')."""
+    relative = os.path.relpath(os.path.abspath(input_path), os.path.abspath(layer_directory))
+    relative = relative.replace(os.sep, "/")
+    if not relative.startswith("../"):
+        relative = "./" + relative
+    return relative
+
+
+def face_first_contact_times(table, mesh_index: int, face_count: int) -> np.ndarray:
+    """float64[face_count]: each face's earliest contact as either side of a row; NaN when never."""
+    first = np.full(face_count, np.inf)
+    for mesh_side, face_side in ((table.mesh_a, table.face_a), (table.mesh_b, table.face_b)):
+        rows = mesh_side == mesh_index
+        if rows.any():
+            np.minimum.at(first, face_side[rows], table.time[rows])
+    first[np.isinf(first)] = np.nan
+    return first
+
+
+def touched_meshes(table, mesh_index: int) -> np.ndarray:
+    """Indices of meshes sharing a contact row with ``mesh_index`` (itself for self contacts)."""
+    other = np.concatenate([table.mesh_b[table.mesh_a == mesh_index], table.mesh_a[table.mesh_b == mesh_index]])
+    return np.unique(other)
+
+
+def build_override_layer(shot, checked_meshes: Iterable[int], table,
+                         layer_path: Union[str, os.PathLike]) -> str:
+    """The override layer's usda text for ``shot`` (usdksl.loader.Shot) and its ContactTable.
+
+    ``checked_meshes``: indices into shot.meshes that took part in at least one checked pair.
+    ``layer_path``: where the layer will live (only its directory matters, for the relative sublayer).
+    """
+    from pxr import Sdf, Vt
+
+    layer = Sdf.Layer.CreateAnonymous("usdksl.usda")
+    layer.subLayerPaths.append(relative_sublayer_path(shot.path, Path(layer_path).parent))
+    metadata: Dict[str, object] = dict(shot.metadata)
+    for key in _COPIED_LAYER_FIELDS:
+        if key in metadata:
+            setattr(layer, key, float(metadata[key]))
+    for key in _COPIED_STAGE_FIELDS:
+        if key in metadata:
+            value = metadata[key]
+            layer.pseudoRoot.SetInfo(key, float(value) if key == "metersPerUnit" else str(value))
+    if metadata.get("defaultPrim"):
+        layer.defaultPrim = str(metadata["defaultPrim"])
+    layer.comment = "usdksl check results: override layer over the cache it sublayers"
+
+    paths = [mesh.path for mesh in shot.meshes]
+    for index in sorted(set(int(i) for i in checked_meshes), key=paths.__getitem__):
+        mesh = shot.meshes[index]
+        face_times = face_first_contact_times(table, index, mesh.face_count)
+        touching = ~np.isnan(face_times)
+        spec = Sdf.CreatePrimInLayer(layer, Sdf.Path(mesh.path))
+        spec.specifier = Sdf.SpecifierOver
+
+        count = Sdf.AttributeSpec(spec, ATTR_CONTACT_FACE_COUNT, Sdf.ValueTypeNames.Int, declaresCustom=True)
+        count.default = int(touching.sum())
+        relationship = Sdf.RelationshipSpec(spec, REL_CONTACTS_WITH, custom=True)
+        for other in sorted(paths[i] for i in touched_meshes(table, index).tolist()):
+            relationship.targetPathList.Append(Sdf.Path(other))
+        if touching.any():
+            first = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double,
+                                      declaresCustom=True)
+            first.default = float(np.nanmin(face_times))
+
+        primvar = Sdf.AttributeSpec(spec, PRIMVAR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.DoubleArray)
+        primvar.default = Vt.DoubleArray.FromNumpy(face_times)
+        primvar.SetInfo("interpolation", "uniform")
+
+        colors = np.where(touching[:, None], np.array(CONTACT_COLOR, np.float32),
+                          np.array(CLEAN_COLOR, np.float32)).astype(np.float32)
+        display = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR, Sdf.ValueTypeNames.Color3fArray)
+        display.default = Vt.Vec3fArray.FromNumpy(colors)
+        display.SetInfo("interpolation", "uniform")
+        if _input_authors(shot.stage, mesh.path, PRIMVAR_DISPLAY_COLOR + ":indices"):
+            indices = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR + ":indices", Sdf.ValueTypeNames.IntArray)
+            indices.default = Sdf.ValueBlock()
+    return layer.ExportToString()
+
+
+def _input_authors(stage, prim_path: str, attribute_name: str) -> bool:
+    prim = stage.GetPrimAtPath(prim_path) if stage is not None else None
+    if not prim:
+        return False
+    attribute = prim.GetAttribute(attribute_name)
+    return bool(attribute) and (attribute.HasAuthoredValue() or attribute.GetNumTimeSamples() > 0)
+
+
+def override_layer_name(shot_path: Union[str, os.PathLike]) -> str:
+    return f"{shot_stem(shot_path)}.usdksl.usda"
+
+
+def shot_stem(shot_path: Union[str, os.PathLike]) -> str:
+    """``shot.usd`` -> ``shot``; ``shot.usdc`` -> ``shot``."""
+    return Path(shot_path).stem
+
+
+__all__ = ["build_override_layer", "face_first_contact_times", "touched_meshes", "relative_sublayer_path",
+           "override_layer_name", "shot_stem"]
