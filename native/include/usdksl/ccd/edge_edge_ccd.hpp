@@ -15,4 +15,13 @@ CCDResult edge_edge_ccd(
     const Vec3& ea0_t1, const Vec3& ea1_t1, const Vec3& eb0_t1, const Vec3& eb1_t1,
     const CCDSettings& settings);
 
+/// @brief Same query restricted to contacts strictly earlier than t_max
+///        (fraction of the step, in (0,1]): the narrow phase passes the best
+///        time found so far so that later roots are never searched for.
+CCDResult edge_edge_ccd(
+    const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0, const Vec3& eb1_t0,
+    const Vec3& ea0_t1, const Vec3& ea1_t1, const Vec3& eb0_t1, const Vec3& eb1_t1,
+    const CCDSettings& settings, double t_max);
+
+
 } // namespace usdksl

@@ -16,4 +16,13 @@ CCDResult vertex_face_ccd(
     const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
     const CCDSettings& settings);
 
+/// @brief Same query restricted to contacts strictly earlier than t_max
+///        (fraction of the step, in (0,1]): the narrow phase passes the best
+///        time found so far so that later roots are never searched for.
+CCDResult vertex_face_ccd(
+    const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+    const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+    const CCDSettings& settings, double t_max);
+
+
 } // namespace usdksl

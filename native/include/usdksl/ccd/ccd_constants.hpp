@@ -1,0 +1,35 @@
+#pragma once
+/// @file ccd_constants.hpp
+/// @brief Floating-point error bounds of the narrow phase, named in one place.
+
+namespace usdksl {
+
+/// @brief Unit roundoff of IEEE double (2^-53), dimensionless.
+constexpr double DOUBLE_UNIT_ROUNDOFF = 1.1102230246251565e-16;
+
+/// @brief Bound, in multiples of (unit roundoff x largest absolute input
+///        coordinate on the same axis), on the rounding error of one corner
+///        value of the vertex-face or edge-edge distance function
+///        F(t,u,v) = W(t) - u E1(t) - v E2(t) as the root finder evaluates it
+///        (positions interpolated in time, then differenced; no FMA).
+///        The first-order analysis gives 50; 64 covers the second-order terms.
+constexpr double CCD_CORNER_ERROR_FACTOR = 64.0 * DOUBLE_UNIT_ROUNDOFF;
+
+/// @brief Smallest error bound (scene units) the root finder ever uses, so
+///        that all-zero inputs and subnormal round-off stay conservative.
+constexpr double CCD_MIN_ABSOLUTE_ERROR = 1e-300;
+
+/// @brief Relative inflation applied to (thickness + error bound) so the
+///        rounding of that sum itself cannot reject a true contact.
+constexpr double CCD_BOUND_INFLATION = 1.0 + 8.0 * DOUBLE_UNIT_ROUNDOFF;
+
+/// @brief Relative slack (to the largest absolute coordinate) added to
+///        thickness in the static distance tests, covering the rounding of
+///        closest-point computations; errs toward reporting contact.
+constexpr double STATIC_DISTANCE_RELATIVE_SLACK = 1e-12;
+
+/// @brief Smallest tolerance (interval fraction) the root finder accepts;
+///        finer requests are raised to it so refinement always terminates.
+constexpr double CCD_MIN_TOLERANCE = 1.0 / 4503599627370496.0; // 2^-52
+
+} // namespace usdksl

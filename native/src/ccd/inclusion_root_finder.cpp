@@ -1,0 +1,224 @@
+/// @file inclusion_root_finder.cpp
+/// @brief Earliest-time-first subdivision of the (t,u,v) parameter box.
+///
+/// F is multilinear in (t,u,v) (no u*v term), so over a parameter box its
+/// exact image lies in the axis-aligned hull of its 8 corner values. Each
+/// corner is computed in floating point with a known error bound, so a box is
+/// discarded only when the hull, widened by that bound, misses the cube
+/// [-thickness, thickness]^3 on some axis: no root can hide there.
+
+#include "usdksl/ccd/inclusion_root_finder.hpp"
+
+#include "usdksl/ccd/ccd_constants.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace usdksl {
+namespace {
+
+struct ParameterBox {
+    double t_lo, t_hi, u_lo, u_hi, v_lo, v_hi;
+    int32_t depth;
+};
+
+/// Heap order: earliest t_lo on top; among equal t_lo the deepest box, so the
+/// search dives (depth first) into the earliest candidate region.
+struct LaterFirst {
+    bool operator()(const ParameterBox& a, const ParameterBox& b) const {
+        if (a.t_lo != b.t_lo) return a.t_lo > b.t_lo;
+        return a.depth < b.depth;
+    }
+};
+
+/// Point-pair indices (minuend, subtrahend) of W, E1, E2 per primitive kind.
+struct PairIndices {
+    int w_plus, w_minus, e1_plus, e1_minus, e2_plus, e2_minus;
+};
+constexpr PairIndices VERTEX_FACE_PAIRS{0, 1, 2, 1, 3, 1};
+constexpr PairIndices EDGE_EDGE_PAIRS{0, 2, 0, 1, 3, 2};
+
+/// W, E1, E2 at one time, computed in the exact operation order the error
+/// bound CCD_CORNER_ERROR_FACTOR was derived for.
+struct TermsAtTime {
+    double w[3], e1[3], e2[3];
+};
+
+class RootSearch {
+public:
+    RootSearch(const MultilinearDistance& f, const CCDSettings& settings)
+        : pairs_(f.kind == PrimitivePairKind::VertexFace ? VERTEX_FACE_PAIRS : EDGE_EDGE_PAIRS),
+          is_vertex_face_(f.kind == PrimitivePairKind::VertexFace) {
+        double max_abs[3] = {0.0, 0.0, 0.0};
+        for (int i = 0; i < 4; ++i) {
+            for (int k = 0; k < 3; ++k) {
+                start_[i][k] = f.at_start[i][k];
+                displacement_[i][k] = f.at_end[i][k] - f.at_start[i][k];
+                max_abs[k] = std::max({max_abs[k], std::abs(f.at_start[i][k]),
+                                       std::abs(f.at_end[i][k])});
+            }
+        }
+        const double thickness = std::max(settings.thickness, 0.0);
+        for (int k = 0; k < 3; ++k) {
+            const double error = std::max(CCD_CORNER_ERROR_FACTOR * max_abs[k], CCD_MIN_ABSOLUTE_ERROR);
+            bound_[k] = (thickness + error) * CCD_BOUND_INFLATION;
+        }
+    }
+
+    TermsAtTime terms_at(double t) const {
+        double position[4][3];
+        for (int i = 0; i < 4; ++i)
+            for (int k = 0; k < 3; ++k) position[i][k] = start_[i][k] + t * displacement_[i][k];
+        TermsAtTime terms;
+        for (int k = 0; k < 3; ++k) {
+            terms.w[k] = position[pairs_.w_plus][k] - position[pairs_.w_minus][k];
+            terms.e1[k] = position[pairs_.e1_plus][k] - position[pairs_.e1_minus][k];
+            terms.e2[k] = position[pairs_.e2_plus][k] - position[pairs_.e2_minus][k];
+        }
+        return terms;
+    }
+
+    /// Outcome of evaluating one box.
+    enum class Verdict { Excluded, Inside, Straddles };
+
+    /// Evaluates the 8 corners; on Straddles, fills how much F varies along
+    /// each parameter (for choosing the split).
+    Verdict evaluate(const ParameterBox& box, double variation[3]) const {
+        const TermsAtTime at[2] = {terms_at(box.t_lo), terms_at(box.t_hi)};
+        const double us[2] = {box.u_lo, box.u_hi};
+        const double vs[2] = {box.v_lo, box.v_hi};
+        double corner[2][2][2][3];
+        bool inside = true;
+        for (int k = 0; k < 3; ++k) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (int it = 0; it < 2; ++it) {
+                for (int iu = 0; iu < 2; ++iu) {
+                    const double partial = at[it].w[k] - us[iu] * at[it].e1[k];
+                    for (int iv = 0; iv < 2; ++iv) {
+                        const double value = partial - vs[iv] * at[it].e2[k];
+                        corner[it][iu][iv][k] = value;
+                        lo = std::min(lo, value);
+                        hi = std::max(hi, value);
+                    }
+                }
+            }
+            // Negated comparisons so that NaN never excludes a box.
+            if (!(lo <= bound_[k]) || !(hi >= -bound_[k])) {
+                if (!std::isnan(lo) && !std::isnan(hi)) return Verdict::Excluded;
+            }
+            if (!(lo >= -bound_[k] && hi <= bound_[k])) inside = false;
+        }
+        if (inside) return Verdict::Inside;
+        variation[0] = variation[1] = variation[2] = 0.0;
+        for (int a = 0; a < 2; ++a) {
+            for (int b = 0; b < 2; ++b) {
+                for (int k = 0; k < 3; ++k) {
+                    variation[0] = std::max(variation[0], std::abs(corner[1][a][b][k] - corner[0][a][b][k]));
+                    variation[1] = std::max(variation[1], std::abs(corner[a][1][b][k] - corner[a][0][b][k]));
+                    variation[2] = std::max(variation[2], std::abs(corner[a][b][1][k] - corner[a][b][0][k]));
+                }
+            }
+        }
+        return Verdict::Straddles;
+    }
+
+    bool outside_domain(const ParameterBox& box) const {
+        return is_vertex_face_ && box.u_lo + box.v_lo > 1.0;
+    }
+
+private:
+    double start_[4][3];
+    double displacement_[4][3];
+    double bound_[3];
+    PairIndices pairs_;
+    bool is_vertex_face_;
+};
+
+} // namespace
+
+CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,
+                             double t_max) {
+    CCDResult result;
+    t_max = std::min(t_max, 1.0);
+    if (!(t_max > 0.0)) return result;
+
+    const RootSearch search(f, settings);
+    const double tolerance = std::max(settings.tolerance, CCD_MIN_TOLERANCE);
+    const int64_t max_iterations = settings.max_iterations;
+
+    thread_local std::vector<ParameterBox> heap;
+    heap.clear();
+    heap.push_back(ParameterBox{0.0, t_max, 0.0, 1.0, 0.0, 1.0, 0});
+    const LaterFirst later_first;
+    int64_t iterations = 0;
+
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), later_first);
+        const ParameterBox box = heap.back();
+        heap.pop_back();
+        if (box.t_lo >= t_max) break;
+
+        if (max_iterations > 0 && iterations >= max_iterations) {
+            // Every remaining box starts at or after box.t_lo: a safe early bound.
+            result.hit = true;
+            result.undecided = true;
+            result.toi = box.t_lo;
+            result.reached_tolerance = box.t_hi - box.t_lo;
+            return result;
+        }
+        ++iterations;
+        if (search.outside_domain(box)) continue;
+
+        double variation[3];
+        const auto verdict = search.evaluate(box, variation);
+        if (verdict == RootSearch::Verdict::Excluded) continue;
+        if (verdict == RootSearch::Verdict::Inside) {
+            // Already within thickness at the corners of time t_lo.
+            result.hit = true;
+            result.toi = box.t_lo;
+            result.reached_tolerance = 0.0;
+            return result;
+        }
+
+        const double widths[3] = {box.t_hi - box.t_lo, box.u_hi - box.u_lo, box.v_hi - box.v_lo};
+        int split_axis = -1;
+        double best_variation = -1.0;
+        for (int d = 0; d < 3; ++d) {
+            if (widths[d] > tolerance && variation[d] > best_variation) {
+                best_variation = variation[d];
+                split_axis = d;
+            }
+        }
+        if (split_axis < 0) {
+            result.hit = true;
+            result.toi = box.t_lo;
+            result.reached_tolerance = widths[0];
+            return result;
+        }
+
+        ParameterBox low = box, high = box;
+        low.depth = high.depth = box.depth + 1;
+        if (split_axis == 0) {
+            const double mid = 0.5 * (box.t_lo + box.t_hi);
+            low.t_hi = mid;
+            high.t_lo = mid;
+        } else if (split_axis == 1) {
+            const double mid = 0.5 * (box.u_lo + box.u_hi);
+            low.u_hi = mid;
+            high.u_lo = mid;
+        } else {
+            const double mid = 0.5 * (box.v_lo + box.v_hi);
+            low.v_hi = mid;
+            high.v_lo = mid;
+        }
+        heap.push_back(high);
+        std::push_heap(heap.begin(), heap.end(), later_first);
+        heap.push_back(low);
+        std::push_heap(heap.begin(), heap.end(), later_first);
+    }
+    return result;
+}
+
+} // namespace usdksl

@@ -1,0 +1,171 @@
+/// @file triangle_pair.cpp
+/// @brief Triangle pair = 6 vertex-face + 9 edge-edge primitive pairs; a swept
+///        box filter runs before each primitive CCD, and each CCD only looks
+///        for contacts earlier than the best one found so far.
+
+#include "usdksl/narrow_phase/triangle_pair.hpp"
+
+#include "usdksl/ccd/ccd_constants.hpp"
+#include "usdksl/ccd/edge_edge_ccd.hpp"
+#include "usdksl/ccd/exact_geometry.hpp"
+#include "usdksl/ccd/primitive_distance.hpp"
+#include "usdksl/ccd/triangle_triangle_static.hpp"
+#include "usdksl/ccd/vertex_face_ccd.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace usdksl {
+namespace {
+
+struct Box {
+    Vec3 lo;
+    Vec3 hi;
+    Box merged(const Box& other) const { return {lo.cwiseMin(other.lo), hi.cwiseMax(other.hi)}; }
+};
+
+/// Per-axis gap test; `reach` already includes thickness and rounding slack.
+bool boxes_within(const Box& a, const Box& b, double reach) {
+    for (int k = 0; k < 3; ++k) {
+        if (a.lo[k] > b.hi[k] + reach || b.lo[k] > a.hi[k] + reach) return false;
+    }
+    return true;
+}
+
+bool contains_id(const Triangle& ids, int32_t id) {
+    return ids[0] == id || ids[1] == id || ids[2] == id;
+}
+
+bool edge_shares_vertex(int32_t e0, int32_t e1, int32_t f0, int32_t f1) {
+    return e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1;
+}
+
+/// Largest absolute coordinate of a set of boxes (for rounding slack).
+double magnitude_of(const Box* boxes, int count) {
+    double magnitude = 0.0;
+    for (int i = 0; i < count; ++i)
+        magnitude = std::max({magnitude, boxes[i].lo.cwiseAbs().maxCoeff(), boxes[i].hi.cwiseAbs().maxCoeff()});
+    return magnitude;
+}
+
+} // namespace
+
+TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b,
+                                      bool same_mesh, const CCDSettings& settings) {
+    TrianglePairContact contact;
+    // Swept boxes of the six vertices: a linear trajectory stays inside the box
+    // of its two end positions.
+    Box swept_a[3], swept_b[3];
+    for (int i = 0; i < 3; ++i) {
+        swept_a[i] = {a.t0[i].cwiseMin(a.t1[i]), a.t0[i].cwiseMax(a.t1[i])};
+        swept_b[i] = {b.t0[i].cwiseMin(b.t1[i]), b.t0[i].cwiseMax(b.t1[i])};
+    }
+    const Box triangle_a = swept_a[0].merged(swept_a[1]).merged(swept_a[2]);
+    const Box triangle_b = swept_b[0].merged(swept_b[1]).merged(swept_b[2]);
+    const Box both[2] = {triangle_a, triangle_b};
+    const double reach = std::max(settings.thickness, 0.0) +
+                         CCD_CORNER_ERROR_FACTOR * magnitude_of(both, 2) + CCD_MIN_ABSOLUTE_ERROR;
+    if (!boxes_within(triangle_a, triangle_b, reach)) return contact;
+
+    double best_toi = 1.0;
+    auto consider = [&](const CCDResult& result, ContactFeature feature) {
+        ++contact.queries;
+        if (!result.hit) return;
+        contact.undecided = contact.undecided || result.undecided;
+        if (!contact.hit || result.toi < best_toi) {
+            contact.hit = true;
+            contact.toi = result.toi;
+            contact.feature = feature;
+            best_toi = result.toi;
+        }
+    };
+
+    // Vertices of A against triangle B.
+    for (int i = 0; i < 3 && best_toi > 0.0; ++i) {
+        if (same_mesh && contains_id(b.ids, a.ids[i])) continue;
+        if (!boxes_within(swept_a[i], triangle_b, reach)) continue;
+        consider(vertex_face_ccd(a.t0[i], b.t0[0], b.t0[1], b.t0[2], a.t1[i], b.t1[0], b.t1[1],
+                                 b.t1[2], settings, best_toi),
+                 ContactFeature::VertexFace);
+    }
+    // Vertices of B against triangle A.
+    for (int j = 0; j < 3 && best_toi > 0.0; ++j) {
+        if (same_mesh && contains_id(a.ids, b.ids[j])) continue;
+        if (!boxes_within(swept_b[j], triangle_a, reach)) continue;
+        consider(vertex_face_ccd(b.t0[j], a.t0[0], a.t0[1], a.t0[2], b.t1[j], a.t1[0], a.t1[1],
+                                 a.t1[2], settings, best_toi),
+                 ContactFeature::FaceVertex);
+    }
+    // Edges of A against edges of B.
+    for (int i = 0; i < 3 && best_toi > 0.0; ++i) {
+        const int i1 = (i + 1) % 3;
+        const Box edge_a = swept_a[i].merged(swept_a[i1]);
+        if (!boxes_within(edge_a, triangle_b, reach)) continue;
+        for (int j = 0; j < 3 && best_toi > 0.0; ++j) {
+            const int j1 = (j + 1) % 3;
+            if (same_mesh && edge_shares_vertex(a.ids[i], a.ids[i1], b.ids[j], b.ids[j1])) continue;
+            if (!boxes_within(edge_a, swept_b[j].merged(swept_b[j1]), reach)) continue;
+            consider(edge_edge_ccd(a.t0[i], a.t0[i1], b.t0[j], b.t0[j1], a.t1[i], a.t1[i1], b.t1[j],
+                                   b.t1[j1], settings, best_toi),
+                     ContactFeature::EdgeEdge);
+        }
+    }
+    if (!contact.hit) contact.toi = 1.0;
+    return contact;
+}
+
+bool triangle_pair_intersect_static(const Triangle& ids_a, const std::array<Vec3, 3>& a,
+                                    const Triangle& ids_b, const std::array<Vec3, 3>& b,
+                                    bool same_mesh, double thickness) {
+    bool any_shared = false;
+    if (same_mesh) {
+        for (int i = 0; i < 3; ++i) any_shared = any_shared || contains_id(ids_b, ids_a[i]);
+    }
+    if (!any_shared) return triangles_intersect_static(a, b, thickness);
+
+    thickness = std::max(thickness, 0.0);
+    Box box_a{a[0], a[0]}, box_b{b[0], b[0]};
+    for (int i = 1; i < 3; ++i) {
+        box_a = box_a.merged(Box{a[i], a[i]});
+        box_b = box_b.merged(Box{b[i], b[i]});
+    }
+    const Box both[2] = {box_a, box_b};
+    const double reach = thickness + STATIC_DISTANCE_RELATIVE_SLACK * magnitude_of(both, 2);
+    if (!boxes_within(box_a, box_b, reach)) return false;
+    const double reach_squared = reach * reach;
+    const bool use_distance = thickness > 0.0;
+
+    for (int i = 0; i < 3; ++i) {
+        if (!contains_id(ids_b, ids_a[i])) {
+            if (use_distance ? point_triangle_distance_squared(a[i], b[0], b[1], b[2]) <= reach_squared
+                             : point_in_triangle(a[i], b[0], b[1], b[2]))
+                return true;
+        }
+        if (!contains_id(ids_a, ids_b[i])) {
+            if (use_distance ? point_triangle_distance_squared(b[i], a[0], a[1], a[2]) <= reach_squared
+                             : point_in_triangle(b[i], a[0], a[1], a[2]))
+                return true;
+        }
+    }
+    for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3;
+        // An edge piercing the other triangle (only if it shares none of its vertices).
+        if (!contains_id(ids_b, ids_a[i]) && !contains_id(ids_b, ids_a[i1]) &&
+            segment_intersects_triangle(a[i], a[i1], b[0], b[1], b[2]))
+            return true;
+        if (!contains_id(ids_a, ids_b[i]) && !contains_id(ids_a, ids_b[i1]) &&
+            segment_intersects_triangle(b[i], b[i1], a[0], a[1], a[2]))
+            return true;
+        for (int j = 0; j < 3; ++j) {
+            const int j1 = (j + 1) % 3;
+            if (edge_shares_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;
+            if (use_distance
+                    ? segment_segment_distance_squared(a[i], a[i1], b[j], b[j1]) <= reach_squared
+                    : segments_intersect(a[i], a[i1], b[j], b[j1]))
+                return true;
+        }
+    }
+    return false;
+}
+
+} // namespace usdksl
