@@ -6,7 +6,7 @@ import os
 from typing import Dict, Iterable, Optional, Tuple
 
 import numpy as np
-from pxr import Gf, Sdf, Usd, UsdGeom, Vt
+from pxr import Gf, Usd, UsdGeom, Vt
 
 TIME_CODES_PER_SECOND = 24.0
 METERS_PER_UNIT = 1.0
@@ -91,7 +91,3 @@ def save(stage: Usd.Stage) -> None:
 
 def layer_comment(stage: Usd.Stage, text: str) -> None:
     stage.GetRootLayer().documentation = text
-
-
-__all__ = ["new_stage", "grid", "box", "define_mesh", "smoothstep", "save", "layer_comment",
-           "Sdf", "Gf"]

@@ -299,3 +299,33 @@ def test_stage_metadata_is_reported(build):
                              "startTimeCode": 10.0, "endTimeCode": 20.0, "upAxis": "Z",
                              "metersPerUnit": 1.0, "defaultPrim": "World"}
     assert shot.mesh("/World/Mesh").times.tolist() == [10.0, 20.0]
+
+
+def test_instanced_meshes_load_once_per_instance_in_world_space(build):
+    points, counts, indices = quad_grid(1, 1)
+
+    def fill(stage):
+        write_mesh(stage, "/Proto/Mesh", counts, indices, points=points)
+        for k in range(2):
+            instance = UsdGeom.Xform.Define(stage, f"/Instance{k}")
+            instance.AddTranslateOp().Set(Gf.Vec3d(5.0 * k, 0, 0))
+            instance.GetPrim().GetReferences().AddInternalReference("/Proto")
+            instance.GetPrim().SetInstanceable(True)
+
+    path = build("instances.usda", fill)
+    shot = load_shot(path)
+    assert [m.path for m in shot.meshes] == ["/Proto/Mesh", "/Instance0/Mesh", "/Instance1/Mesh"]
+    stage = Usd.Stage.Open(path)
+    for mesh in shot.meshes:
+        expected = reference_world_points(stage, mesh.path, Usd.TimeCode.Default())
+        np.testing.assert_allclose(mesh.points[0], expected)
+    assert shot.mesh("/Instance1/Mesh").points[0, :, 0].min() == 5.0
+
+
+def test_include_that_matches_nothing_is_an_input_error(build):
+    from usdksl.errors import UsdkslInputError
+
+    points, counts, indices = quad_grid(1, 1)
+    path = build("none.usda", lambda s: write_mesh(s, "/World/Cloth", counts, indices, points=points))
+    with pytest.raises(UsdkslInputError, match="no UsdGeom.Mesh prims match"):
+        load_shot(path, include=["/Elsewhere"])
