@@ -316,7 +316,7 @@ def _read_points(file: str, path: str, attribute: Usd.Attribute, time: float) ->
     value = attribute.Get(time)
     if value is None:
         raise UsdkslInputError("empty mesh: points have no value", file=file, prim=path, time=time)
-    return np.asarray(value, dtype=np.float32).reshape(-1, 3)
+    return np.asarray(value).reshape(-1, 3)   # point3f as authored; a double type keeps its precision
 
 
 def load_mesh(prim: Usd.Prim, times: np.ndarray, file: str = "",
