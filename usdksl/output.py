@@ -15,6 +15,13 @@ from typing import Dict, List, Optional, Union
 from .errors import UsdkslUsageError
 
 TEMP_PREFIX = ".usdksl-tmp-"
+_FILE_MODE = 0o666
+
+
+def _current_umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def check_writable_directory(directory: Union[str, Path]) -> Path:
@@ -82,6 +89,7 @@ class OutputTransaction:
                     stream.write(data)
                     stream.flush()
                     os.fsync(stream.fileno())
+                os.chmod(temp_name, _FILE_MODE & ~_current_umask())  # mkstemp makes 0600; be a normal file
         except OSError as error:
             _discard(temps, created_dirs)
             failed = getattr(error, "filename", None) or (temps[-1][1] if temps else None)

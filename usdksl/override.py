@@ -102,8 +102,8 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
         count = Sdf.AttributeSpec(spec, ATTR_CONTACT_FACE_COUNT, Sdf.ValueTypeNames.Int, declaresCustom=True)
         count.default = int(touching.sum())
         relationship = Sdf.RelationshipSpec(spec, REL_CONTACTS_WITH, custom=True)
-        for other in sorted(paths[i] for i in touched_meshes(table, index).tolist()):
-            relationship.targetPathList.Append(Sdf.Path(other))
+        relationship.targetPathList.explicitItems = [
+            Sdf.Path(other) for other in sorted(paths[i] for i in touched_meshes(table, index).tolist())]
         if touching.any():
             first = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double,
                                       declaresCustom=True)
