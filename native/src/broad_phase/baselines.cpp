@@ -4,7 +4,6 @@
 #include "usdksl/broad_phase/sample_times.hpp"
 
 #include <memory>
-#include <unordered_map>
 
 namespace usdksl {
 namespace {
@@ -27,14 +26,6 @@ void refit_all(std::vector<std::unique_ptr<AabbTree>>& trees, double t0, double 
     }
 }
 
-uint64_t ordered_key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) {
-    // Meshes and triangles each fit 32 bits; mix them into one key per ordered pair.
-    return (static_cast<uint64_t>(static_cast<uint32_t>(mesh_a)) * 0x9E3779B97F4A7C15ULL) ^
-           (static_cast<uint64_t>(static_cast<uint32_t>(tri_a)) << 32) ^
-           (static_cast<uint64_t>(static_cast<uint32_t>(mesh_b)) * 0xC2B2AE3D27D4EB4FULL) ^
-           static_cast<uint64_t>(static_cast<uint32_t>(tri_b));
-}
-
 } // namespace
 
 void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
@@ -42,9 +33,6 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
     const std::vector<double> times = merged_sample_times(scene, mesh_pairs, options.t_begin, options.t_end);
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
     const double padding = 0.5 * options.ccd.thickness + BOX_PADDING * scene.scale;
-    // End of the flightplan step already tested per (ordered) triangle pair, so a
-    // step spanning several intervals is tested once, as KSL tests it.
-    std::unordered_map<uint64_t, double> tested_until;
     // Static test at the range start, on boxes of that instant.
     refit_all(trees, options.t_begin, options.t_begin, padding);
     for (const auto& [ma, mb] : mesh_pairs) {
@@ -61,13 +49,8 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
             if (!trees[ma] || !trees[mb]) continue;
             for_each_overlapping_leaf_pair(
                 *trees[ma], *trees[mb], ma == mb, &counters.bv_tests, [&](int32_t ta, int32_t tb) {
-                    if (tester.settled(ma, ta, mb, tb)) return;
-                    const PairStep step = tester.step_containing(ma, ta, mb, tb, t0);
-                    if (!step.valid()) return;
-                    double& done = tested_until.try_emplace(ordered_key(ma, ta, mb, tb), -1e300).first->second;
-                    if (step.end <= done) return;
-                    done = step.end;
-                    tester.test_step(ma, ta, mb, tb, step);
+                    // As in the paper's baseline, every overlapping pair is tested on every interval.
+                    if (!tester.settled(ma, ta, mb, tb)) tester.test_step(ma, ta, mb, tb, PairStep{t0, t1});
                 });
         }
         if (options.progress) options.progress(t1, static_cast<int64_t>(tester.contacts().size()));

@@ -48,22 +48,24 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     CheckResult result;
     // The reference reads the raw samples; every other method shares merged flightplans.
     const Scene scene(meshes, options.method != Method::BruteForce);
-    TrianglePairTester tester(scene, options.ccd, result.counters);
+    CheckOptions effective = options;
+    effective.ccd.thickness = scene.contact_distance(options.ccd.thickness);
+    TrianglePairTester tester(scene, effective.ccd, result.counters);
     switch (options.method) {
     case Method::KineticSeparationList: {
-        KineticSeparationLists lists(scene, mesh_pairs, tester, result.counters, options.t_begin, options.t_end,
-                                     options.ccd.thickness);
-        lists.run(options.progress);
+        KineticSeparationLists lists(scene, mesh_pairs, tester, result.counters, effective.t_begin,
+                                     effective.t_end, effective.ccd.thickness);
+        lists.run(effective.progress);
         break;
     }
     case Method::SweptVolume:
-        run_swept_volume(scene, mesh_pairs, options, tester, result.counters);
+        run_swept_volume(scene, mesh_pairs, effective, tester, result.counters);
         break;
     case Method::Discrete:
-        run_discrete(scene, mesh_pairs, options, tester, result.counters);
+        run_discrete(scene, mesh_pairs, effective, tester, result.counters);
         break;
     case Method::BruteForce:
-        run_brute_force(scene, mesh_pairs, options, tester);
+        run_brute_force(scene, mesh_pairs, effective, tester);
         break;
     }
     result.contacts = tester.sorted_contacts();

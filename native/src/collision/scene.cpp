@@ -9,6 +9,7 @@ Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear) 
     for (const MeshAnimation& mesh : meshes) {
         plans.emplace_back(mesh, merge_collinear);
         scale = std::max(scale, plans.back().max_abs_coordinate());
+        merge_deviation = std::max(merge_deviation, plans.back().merge_deviation());
     }
 }
 

@@ -53,19 +53,26 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
     for (int32_t v = 0; v < n; ++v) {
         kept.clear();
         kept.push_back(0);
+        double run_deviation = 0.0;  // of the samples dropped since the last kept one
         for (int64_t k = 1; k < sample_count; ++k) {
             if (merge_collinear && k + 1 < sample_count) {
                 // Drop sample k when every sample since the last kept one lies on
                 // the chord from the last kept sample to sample k + 1.
                 const int64_t anchor = kept.back();
-                bool on_chord = true;
-                for (int64_t j = anchor + 1; j <= k && on_chord; ++j) {
-                    on_chord = deviation_from_chord(mesh, v, anchor, j, k + 1) <= merge_tolerance;
+                double worst = 0.0;
+                for (int64_t j = anchor + 1; j <= k && worst <= merge_tolerance; ++j) {
+                    worst = std::max(worst, deviation_from_chord(mesh, v, anchor, j, k + 1));
                 }
-                if (on_chord) continue;
+                if (worst <= merge_tolerance) {
+                    run_deviation = worst;
+                    continue;
+                }
+                merge_deviation_ = std::max(merge_deviation_, run_deviation);
+                run_deviation = 0.0;
             }
             kept.push_back(k);
         }
+        merge_deviation_ = std::max(merge_deviation_, run_deviation);
         // A vertex that never moves keeps a single breakpoint.
         if (merge_collinear && kept.size() == 2) {
             bool still = true;

@@ -16,7 +16,7 @@ namespace usdksl {
 /// @brief Swept-volume baseline (paper section 7): per interval of the merged
 ///        sample times, refit each tree bottom-up with boxes over the start
 ///        and end positions, traverse the BVTT, and run the narrow phase on
-///        every overlapping leaf pair's flightplan step.
+///        every overlapping leaf pair over that interval.
 void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
                       const CheckOptions& options, TrianglePairTester& tester, Counters& counters);
 

@@ -20,6 +20,14 @@ struct Scene {
     std::vector<Flightplans> plans;
     /// @brief Largest absolute coordinate of the scene (scene units), at least 1.
     double scale = 1.0;
+    /// @brief Largest distance (scene units, infinity norm) by which merging
+    ///        collinear segments moved any vertex of any mesh off its samples.
+    double merge_deviation = 0.0;
+
+    /// @brief The contact distance the narrow phase must use so that merged
+    ///        flightplans never hide a contact of the sampled ones: two
+    ///        primitives may each have moved by sqrt(3) * merge_deviation.
+    double contact_distance(double thickness) const { return thickness + 4.0 * merge_deviation; }
 
     /// @brief Positions of triangle `tri` of mesh `mesh` at time code t.
     std::array<Vec3, 3> triangle_at(int32_t mesh, int32_t tri, double t) const;

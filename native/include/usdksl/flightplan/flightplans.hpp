@@ -52,6 +52,10 @@ public:
     /// @brief Largest absolute coordinate over every breakpoint (scene units).
     double max_abs_coordinate() const { return max_abs_coordinate_; }
 
+    /// @brief Largest distance (infinity norm, scene units) between a dropped
+    ///        sample and the merged flightplan; 0 when nothing merged.
+    double merge_deviation() const { return merge_deviation_; }
+
     /// @brief Total number of breakpoints kept (after merging).
     int64_t breakpoint_count() const { return static_cast<int64_t>(key_times_.size()); }
 
@@ -60,6 +64,7 @@ private:
     std::vector<double> key_times_;
     std::vector<double> key_points_;
     double max_abs_coordinate_ = 0.0;
+    double merge_deviation_ = 0.0;
 };
 
 } // namespace usdksl
