@@ -61,10 +61,12 @@ public:
             }
         }
         const double thickness = std::max(settings.thickness, 0.0);
+        double error[3];
         for (int k = 0; k < 3; ++k) {
-            const double error = std::max(CCD_CORNER_ERROR_FACTOR * max_abs[k], CCD_MIN_ABSOLUTE_ERROR);
-            bound_[k] = (thickness + error) * CCD_BOUND_INFLATION;
+            error[k] = std::max(CCD_CORNER_ERROR_FACTOR * max_abs[k], CCD_MIN_ABSOLUTE_ERROR);
+            bound_[k] = (thickness + error[k]) * CCD_BOUND_INFLATION;
         }
+        choose_separating_directions(thickness, error, max_abs);
     }
 
     TermsAtTime terms_at(double t) const {
@@ -111,6 +113,7 @@ public:
             if (!(lo >= -bound_[k] && hi <= bound_[k])) inside = false;
         }
         if (inside) return Verdict::Inside;
+        if (excluded_by_directions(corner)) return Verdict::Excluded;
         variation[0] = variation[1] = variation[2] = 0.0;
         for (int a = 0; a < 2; ++a) {
             for (int b = 0; b < 2; ++b) {
@@ -124,11 +127,71 @@ public:
         return Verdict::Straddles;
     }
 
+    /// Fixed directions n along which the scalar n.F (still multilinear, so
+    /// still bounded by its corners) separates far better than the world
+    /// axes: the triangle normal for vertex-face; for edge-edge the common
+    /// normal and, for (nearly) parallel edges, the offset between the lines.
+    void choose_separating_directions(double thickness, const double error[3], const double max_abs[3]) {
+        direction_count_ = 0;
+        for (const double t : {0.0, 1.0}) {
+            const TermsAtTime terms = terms_at(t);
+            const Vec3 w(terms.w[0], terms.w[1], terms.w[2]);
+            const Vec3 e1(terms.e1[0], terms.e1[1], terms.e1[2]);
+            const Vec3 e2(terms.e2[0], terms.e2[1], terms.e2[2]);
+            add_direction(Vec3(e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                               e1[0] * e2[1] - e1[1] * e2[0]),
+                          thickness, error, max_abs);
+            if (!is_vertex_face_) {
+                const double length_squared = e1.squaredNorm();
+                if (length_squared > 0.0) add_direction(w - (w.dot(e1) / length_squared) * e1, thickness, error, max_abs);
+            }
+        }
+    }
+
+    void add_direction(const Vec3& n, double thickness, const double error[3], const double max_abs[3]) {
+        if (direction_count_ >= MAX_DIRECTIONS) return;
+        const double scale = n.cwiseAbs().maxCoeff();
+        if (!(scale > 0.0) || !std::isfinite(scale)) return;
+        const Vec3 unit_ish = n / scale;
+        // |computed n.F - exact n.F| <= sum |n_k| (err_k + gamma_3 (|F_k| + err_k)),
+        // with |F_k| <= 6 max_abs_k (the corner magnitude bound), gamma_3 < 4u.
+        double error_bound = 0.0;
+        for (int k = 0; k < 3; ++k)
+            error_bound += std::abs(unit_ish[k]) *
+                           (error[k] + 4.0 * DOUBLE_UNIT_ROUNDOFF * (6.0 * max_abs[k] + error[k]));
+        const double euclidean_length = unit_ish.norm() * CCD_BOUND_INFLATION;
+        Direction& d = directions_[direction_count_++];
+        for (int k = 0; k < 3; ++k) d.n[k] = unit_ish[k];
+        d.bound = (thickness * euclidean_length + error_bound) * CCD_BOUND_INFLATION;
+    }
+
+    bool excluded_by_directions(const double corner[2][2][2][3]) const {
+        for (int i = 0; i < direction_count_; ++i) {
+            const Direction& d = directions_[i];
+            double lo = INFINITY, hi = -INFINITY;
+            for (int c = 0; c < 8; ++c) {
+                const double* f = corner[c >> 2][(c >> 1) & 1][c & 1];
+                const double g = d.n[0] * f[0] + d.n[1] * f[1] + d.n[2] * f[2];
+                lo = std::min(lo, g);
+                hi = std::max(hi, g);
+            }
+            if (lo > d.bound || hi < -d.bound) return true;
+        }
+        return false;
+    }
+
     bool outside_domain(const ParameterBox& box) const {
         return is_vertex_face_ && box.u_lo + box.v_lo > 1.0;
     }
 
 private:
+    struct Direction {
+        double n[3];
+        double bound;
+    };
+    static constexpr int MAX_DIRECTIONS = 4;
+    Direction directions_[MAX_DIRECTIONS];
+    int direction_count_ = 0;
     double start_[4][3];
     double displacement_[4][3];
     double bound_[3];
