@@ -134,7 +134,7 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
 
 @click.command()
 @click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
-@click.option("--out", "out", type=click.Path(file_okay=False, path_type=str), default=None,
+@click.option("--out", "out", type=click.Path(path_type=str), default=None,
               help="Directory for <stem>.contacts.csv, <stem>.summary.csv, <stem>.usdksl.usda "
                    "(default: beside SHOT; created when missing).")
 @click.option("--method", type=click.Choice(METHODS), default="ksl", show_default=True,

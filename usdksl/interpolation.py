@@ -25,7 +25,8 @@ def _knot_summary(spline) -> Tuple[Optional[float], str]:
     """(first knot time, 'held' or 'curve'/'linear' of the first knot that is not linear)."""
     from pxr import Ts
 
-    knots = list(spline.GetKnots()) if hasattr(spline, "GetKnots") else []
+    knot_map = spline.GetKnots()
+    knots = [knot_map[time] for time in sorted(knot_map.keys())]
     first_time = float(knots[0].GetTime()) if knots else None
     for knot in knots:
         if knot.GetNextInterpolation() == Ts.InterpHeld:
