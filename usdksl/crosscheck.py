@@ -123,6 +123,16 @@ def default_mesh_pairs(meshes) -> List[Tuple[int, int]]:
     return pairs
 
 
+def scoped_mesh_pairs(shot, time_range=None):
+    """The pairs ``usdksl check`` tests by default: the scene's scoping (:func:`usdksl.scope.plan_shot`:
+    physics flags, filtered pairs, groups, purpose, visibility) when the shot has a stage, otherwise
+    :func:`default_mesh_pairs`."""
+    if getattr(shot, "stage", None) is None:
+        return default_mesh_pairs(shot.meshes)
+    from .scope import plan_shot
+    return [tuple(pair) for pair in np.asarray(plan_shot(shot, time_range=time_range).pairs).tolist()]
+
+
 def _pair_matrix(pairs, mesh_count: int) -> np.ndarray:
     matrix = np.zeros((mesh_count, mesh_count), dtype=bool)
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
@@ -409,7 +419,8 @@ def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=Non
     (``usdksl.collision.find_contacts(shot.meshes, pairs, time_range=..., **find_contacts_options)``);
     otherwise a :class:`ContactList`, a FaceContacts-like object (arrays ``time, mesh_a, face_a, mesh_b,
     face_b`` with mesh indices into ``shot.meshes``) or a path to a contacts.csv. ``pairs``: mesh index
-    pairs ((i, i) = self) the continuous check tests; None uses :func:`default_mesh_pairs`.
+    pairs ((i, i) = self) the continuous check tests; None uses :func:`scoped_mesh_pairs` (what
+    ``usdksl check`` tests with its default options).
     """
     meshes = shot.meshes
     shot_times = np.asarray(shot.times, dtype=np.float64)
@@ -417,7 +428,7 @@ def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=Non
         shot_times = shot_times[(shot_times >= time_range[0]) & (shot_times <= time_range[1])]
     frame_times = parse_frames(frames, shot_times)
     if pairs is None:
-        pairs = default_mesh_pairs(meshes)
+        pairs = scoped_mesh_pairs(shot, time_range)
     if contacts is None:
         try:
             from .collision import find_contacts

@@ -16,7 +16,8 @@ Rules, matching the continuous check:
 Limits, by design one-sided (the cross-check may miss, it never raises a false alarm): a crossing within
 the single-precision noise band of an edge's end points (``ADVANCE_NOISE_ULPS`` float32 ulps of the scene's
 coordinate scale), or within that band of another hit along the same edge, is not searched for, and a
-crossing exactly through another triangle's edge or vertex is not confirmed. Triangle pairs that intersect
+crossing exactly through another triangle's edge or vertex is not confirmed, and a crossing shallower than
+the lift of the rays off their own surface (``LIFT_NOISE_ULPS`` float32 ulps) may be missed. Triangle pairs that intersect
 only in such ways are left to the continuous check.
 """
 
@@ -33,6 +34,12 @@ from .segment_crossing import segments_cross_triangles
 #: hit, and how far both ends of every edge are trimmed. Below this distance float32 cannot tell hits apart
 #: from each other or from the edge's own end points (where the edge's own neighbour triangles are hit).
 ADVANCE_NOISE_ULPS = 16.0
+
+#: How far (in float32 ulps of the frame's largest absolute coordinate) every ray is lifted off its own
+#: surface, along the edge's normal (the sign-agreed sum of its owner triangles' normals). An edge lies in the
+#: planes of the triangles that own it, and on flat or ruled parts of a mesh in the planes of its neighbours:
+#: cast exactly along the surface, float32 noise makes it graze them at every step. Lifted, it passes above.
+LIFT_NOISE_ULPS = 64.0
 
 #: Safety stop for the rounds of multi-hit casting. Rays still active after this many rounds are counted
 #: (``rays_truncated``) and their remaining length is not searched.
@@ -97,6 +104,25 @@ class FrameTopology:
     @property
     def mesh_count(self) -> int:
         return len(self.vertex_offset) - 1
+
+    def edge_normals(self, vertices: np.ndarray) -> np.ndarray:
+        """Unit normal of every edge in the frame ``vertices``: the sum of its owner triangles' unit normals,
+        each flipped to agree with the first owner's (meshes need not be consistently oriented); the first
+        owner's normal where the sum vanishes (a fold flat onto itself). float64[E, 3]."""
+        corners = vertices[self.triangles]
+        normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        lengths = np.linalg.norm(normals, axis=1)
+        normals = normals / np.where(lengths > 0.0, lengths, 1.0)[:, None]
+        owner_normals = normals[self.edge_owners]
+        owner_edge = np.repeat(np.arange(len(self.edges)), np.diff(self.edge_owner_start))
+        first = normals[self.edge_owners[self.edge_owner_start[:-1]]] if len(self.edges) else np.zeros((0, 3))
+        agree = np.where(np.einsum("ij,ij->i", owner_normals, first[owner_edge]) < 0.0, -1.0, 1.0)
+        signed = owner_normals * agree[:, None]
+        summed = np.stack([np.bincount(owner_edge, signed[:, axis], minlength=len(self.edges))
+                           for axis in range(3)], axis=1)
+        summed_length = np.linalg.norm(summed, axis=1)
+        return np.where((summed_length > 1e-6)[:, None], summed / np.where(summed_length > 0.0, summed_length,
+                                                                              1.0)[:, None], first)
 
 
 @dataclass
@@ -171,12 +197,13 @@ def intersecting_triangle_pairs(topology: FrameTopology, vertices: np.ndarray,
     TriangleMesh(scene, vertices.astype(np.float32),
                  np.ascontiguousarray(topology.triangles[scene_triangles], dtype=np.int32))
 
-    start_points = vertices[topology.edges[ray_edges, 0]]
-    end_points = vertices[topology.edges[ray_edges, 1]]
-    directions = end_points - start_points
-    lengths = np.linalg.norm(directions, axis=1)
     coordinate_scale = float(np.max(np.abs(vertices[topology.triangles[scene_triangles]])))
-    noise = ADVANCE_NOISE_ULPS * float(np.finfo(np.float32).eps) * max(coordinate_scale, np.finfo(np.float64).tiny)
+    ulp = float(np.finfo(np.float32).eps) * max(coordinate_scale, np.finfo(np.float64).tiny)
+    noise = ADVANCE_NOISE_ULPS * ulp
+    lift = LIFT_NOISE_ULPS * ulp * topology.edge_normals(vertices)[ray_edges]
+    start_points = vertices[topology.edges[ray_edges, 0]] + lift
+    directions = vertices[topology.edges[ray_edges, 1]] - vertices[topology.edges[ray_edges, 0]]
+    lengths = np.linalg.norm(directions, axis=1)
     advance = np.where(lengths > 0.0, noise / np.where(lengths > 0.0, lengths, 1.0), 1.0)
     counters["edges_unresolvable"] = int(np.count_nonzero(advance >= 0.5))
 

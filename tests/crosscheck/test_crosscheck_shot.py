@@ -13,7 +13,7 @@ from usdksl.crosscheck import (ContactList, crosscheck_shot, default_mesh_pairs,
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.loader import load_shot
 
-from conftest import grid_sheet
+from crosscheck_helpers import grid_sheet
 
 QUAD = [0, 1, 2, 3]
 

@@ -5,29 +5,7 @@ import pytest
 
 import usdksl.embree_frames as embree_frames
 from usdksl.embree_frames import FrameTopology, intersecting_triangle_pairs
-from usdksl.segment_crossing import segments_cross_triangles
-
-
-def brute_force_pairs(topology, vertices, allowed=None):
-    """Every (triangle, triangle) pair where an edge of one properly crosses the other, the edge sharing
-    no vertex with the triangle: all edge x triangle combinations, no acceleration."""
-    triangles = topology.triangles
-    owners_edges = triangles[:, [[0, 1], [1, 2], [2, 0]]].reshape(-1, 2)
-    owner = np.repeat(np.arange(len(triangles)), 3)
-    edge_index, other = np.meshgrid(np.arange(len(owners_edges)), np.arange(len(triangles)), indexing="ij")
-    edge_index, other = edge_index.ravel(), other.ravel()
-    edge = owners_edges[edge_index]
-    shares = (triangles[other] == edge[:, :1]).any(axis=1) | (triangles[other] == edge[:, 1:]).any(axis=1)
-    mesh_a, mesh_b = topology.triangle_mesh[owner[edge_index]], topology.triangle_mesh[other]
-    keep = ~shares
-    if allowed is not None:
-        keep &= allowed[mesh_a, mesh_b]
-    edge, edge_index, other = edge[keep], edge_index[keep], other[keep]
-    corners = vertices[triangles[other]]
-    hit = segments_cross_triangles(vertices[edge[:, 0]], vertices[edge[:, 1]], corners[:, 0], corners[:, 1],
-                                   corners[:, 2])
-    first, second = owner[edge_index[hit]], other[hit]
-    return set(zip(np.minimum(first, second).tolist(), np.maximum(first, second).tolist()))
+from crosscheck_helpers import brute_force_pairs
 
 
 def found_pairs(result):
@@ -116,11 +94,12 @@ def test_allowed_mesh_pairs_restrict_what_is_reported():
 
 
 def test_shared_vertex_hits_are_excluded_before_confirmation(monkeypatch):
-    """With confirmation disabled (every candidate accepted) and no end trimming, rays leaving a vertex of a
-    closed surface hit the triangles around that vertex; those hits must never become pairs."""
+    """With confirmation disabled (every candidate accepted), no lift and almost no end trimming, rays
+    leaving a vertex of a closed surface hit the triangles around that vertex; those must never be pairs."""
     monkeypatch.setattr(embree_frames, "segments_cross_triangles",
                         lambda p, q, a, b, c: np.ones(len(p), dtype=bool))
     monkeypatch.setattr(embree_frames, "ADVANCE_NOISE_ULPS", 0.5)
+    monkeypatch.setattr(embree_frames, "LIFT_NOISE_ULPS", 0.0)
     monkeypatch.setattr(embree_frames, "MAX_CAST_ROUNDS", 64)
     points = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
     triangles = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5],
