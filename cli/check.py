@@ -15,16 +15,18 @@ from pathlib import Path
 from typing import Optional, Sequence, Tuple
 
 import click
+import numpy as np
 
 from .. import __version__
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..interpolation import reject_spline_motion
-from ..loader import load_shot
+from ..loader import load_shot, mesh_prims, open_stage
 from ..output import OutputTransaction, check_writable_directory, resolve_output_path
 from ..override import build_override_layer, shot_stem
 from ..progress import Progress
 from ..reports import ContactTable, json_report, junit_report, summary_line
-from ..scope import ScopeOptions, include_predicate, plan_shot, split_patterns
+from ..scope import ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
+from ..segments import full_range, is_topology_change, split_range, topology_gaps
 
 METHODS = ("ksl", "swept", "discrete", "brute")
 # Like linters (ruff): abnormal termination shares the "could not check" code, never 1 ("contacts found").
@@ -72,37 +74,39 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
 
     include, excluded = split_patterns(prims, exclude)
     predicate = include_predicate(include, excluded) if (include or excluded) else None
-    loaded = load_shot(shot, time_range=time_range, include=predicate)
-    reject_spline_motion(loaded.stage, [mesh.path for mesh in loaded.meshes], file=shot)
-
+    segments = _load_segments(shot, time_range, predicate, echo)
+    loaded = segments[0][1]
     options = ScopeOptions(self_check=self_check, inter_check=inter_check, include=(), exclude=(),
                            include_guides=include_guides, include_invisible=include_invisible)
-    plan = plan_shot(loaded, options, time_range)
-    if predicate is not None:
-        plan.excluded_paths = list(predicate.rejected)
-    for line in plan.describe():
-        echo(f"usdksl: {line.strip() if line.startswith('pairs') else line}")
+    plans = []
+    for segment_range, segment in segments:
+        reject_spline_motion(segment.stage, [mesh.path for mesh in segment.meshes], file=shot)
+        segment_plan = plan_shot(segment, options, segment_range)
+        if predicate is not None:
+            segment_plan.excluded_paths = list(dict.fromkeys(predicate.rejected))
+        if len(segments) > 1:
+            echo(f"usdksl: segment {segment_range[0]:g}..{segment_range[1]:g}:")
+        for line in segment_plan.describe():
+            echo(f"usdksl: {line.strip() if line.startswith('pairs') else line}")
+        plans.append(segment_plan)
+    plan = merge_plans(plans)
 
-    span = time_range if time_range is not None else (
-        (float(loaded.times[0]), float(loaded.times[-1])) if len(loaded.times) else (0.0, 0.0))
-    paths = [mesh.path for mesh in loaded.meshes]
-    if plan.checked_pairs:
-        from ..collision import find_contacts
-
-        progress = Progress(span[0], span[1])
-        try:
-            result = find_contacts(loaded.meshes, plan.pairs, method=method, time_range=time_range,
-                                   tolerance=tolerance, thickness=thickness, progress=progress)
-        finally:
-            progress.close()
-        undecided = int(getattr(result, "undecided", [False]).sum()) if hasattr(result, "undecided") else 0
-        if undecided:
-            echo(f"usdksl: warning: {undecided} triangle pairs could not be separated within the tolerance "
-                 f"and are reported as contacts (conservative)")
-        table = ContactTable.from_face_contacts(result.face_contacts(loaded.meshes), paths)
+    if time_range is not None:
+        span = time_range
     else:
+        all_times = np.concatenate([segment.times for _, segment in segments])
+        span = (float(all_times.min()), float(all_times.max())) if all_times.size else (0.0, 0.0)
+    progress = Progress(span[0], span[1])
+    tables = []
+    try:
+        for (segment_range, segment), segment_plan in zip(segments, plans):
+            tables.append(_check_segment(segment, segment_plan, segment_range, method, tolerance, thickness,
+                                         progress, sum(t.count for t in tables), echo))
+    finally:
+        progress.close()
+    if not plan.checked_pairs:
         echo("usdksl: warning: no mesh pair left to check")
-        table = ContactTable.empty(paths)
+    table = ContactTable.concatenate(tables)
 
     exit_code = 1 if table.count else 0
     stem = shot_stem(shot)
@@ -115,7 +119,9 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
     transaction = OutputTransaction()
     transaction.write_text(out_dir / f"{stem}.contacts.csv", table.contacts_csv())
     transaction.write_text(out_dir / f"{stem}.summary.csv", table.summary_csv())
-    transaction.write_text(layer_path, build_override_layer(loaded, checked_meshes, table, layer_path))
+    transaction.write_text(layer_path, build_override_layer(
+        loaded, checked_meshes, table, layer_path,
+        segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1 else None))
     json_text = None
     if json_path is not None:
         json_text = json_report(shot, settings, plan, table, exit_code, version=__version__)
@@ -130,6 +136,45 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
     summary = summary_line(table, plan, span, time.monotonic() - started)
     echo(summary)
     return CheckResult(exit_code=exit_code, table=table, plan=plan, written=written, summary=summary)
+
+
+def _load_segments(shot, time_range, predicate, echo):
+    """[(range, Shot)]: the whole shot, or one Shot per constant-topology stretch (usdksl.segments) with a
+    warning per topology change; ``range`` is None when the whole shot is checked without --time-range."""
+    try:
+        return [(time_range, load_shot(shot, time_range=time_range, include=predicate))]
+    except UsdkslInputError as error:
+        if not is_topology_change(error):
+            raise
+        stage = open_stage(shot)
+        paths = [str(prim.GetPath()) for prim in mesh_prims(stage, predicate)]
+        gaps = topology_gaps(stage, paths)
+        ranges = split_range(full_range(stage, paths, time_range), gaps)
+        if not gaps or not ranges:
+            raise
+    for gap_start, gap_end, path in gaps:
+        echo(f"usdksl: warning: {shot}: {path}: topology changes between time {gap_start:g} and {gap_end:g}; "
+             f"that interval is not checked")
+    echo(f"usdksl: warning: checking {len(ranges)} constant-topology segments: "
+         + ", ".join(f"{a:g}..{b:g}" for a, b in ranges))
+    return [(segment_range, load_shot(shot, time_range=segment_range, include=predicate))
+            for segment_range in ranges]
+
+
+def _check_segment(segment, plan, segment_range, method, tolerance, thickness, progress, contacts_before, echo):
+    paths = [mesh.path for mesh in segment.meshes]
+    if not plan.checked_pairs:
+        return ContactTable.empty(paths)
+    from ..collision import find_contacts
+
+    result = find_contacts(segment.meshes, plan.pairs, method=method, time_range=segment_range,
+                           tolerance=tolerance, thickness=thickness,
+                           progress=lambda reached, count: progress(reached, contacts_before + count))
+    undecided = int(np.count_nonzero(result.undecided)) if hasattr(result, "undecided") else 0
+    if undecided:
+        echo(f"usdksl: warning: {undecided} triangle pairs could not be separated within the tolerance "
+             f"and are reported as contacts (conservative)")
+    return ContactTable.from_face_contacts(result.face_contacts(segment.meshes), paths)
 
 
 @click.command()

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Dict, Iterable, Sequence, Union
+from typing import Dict, Iterable, Optional, Sequence, Union
 
 import numpy as np
 
@@ -69,11 +69,16 @@ def touched_meshes(table, mesh_index: int) -> np.ndarray:
 
 
 def build_override_layer(shot, checked_meshes: Iterable[int], table,
-                         layer_path: Union[str, os.PathLike]) -> str:
+                         layer_path: Union[str, os.PathLike], segments: Optional[Sequence[tuple]] = None) -> str:
     """The override layer's usda text for ``shot`` (usdksl.loader.Shot) and its ContactTable.
 
     ``checked_meshes``: indices into shot.meshes that took part in at least one checked pair.
     ``layer_path``: where the layer will live (only its directory matters, for the relative sublayer).
+    ``segments``: for a shot checked in constant-topology stretches (usdksl.segments), a list of
+    ((start, end), segment Shot, segment ContactTable). A mesh whose topology differs between segments gets
+    its per-face primvars as time samples at each segment's start and end (held within the segment, one
+    value per face of the topology in force); the mesh-level values cover all segments, and
+    ``usdksl:contactFaceCount`` then adds up the touching faces of every segment.
     """
     from pxr import Sdf, Vt
 
@@ -94,34 +99,55 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
     paths = [mesh.path for mesh in shot.meshes]
     for index in sorted(set(int(i) for i in checked_meshes), key=paths.__getitem__):
         mesh = shot.meshes[index]
-        face_times = face_first_contact_times(table, index, mesh.face_count)
-        touching = ~np.isnan(face_times)
+        # (time range or None for the default value, face times) per authored value
+        if segments and len(segments) > 1 and not _same_topology_everywhere(segments, index):
+            values = [(span, face_first_contact_times(segment_table, index, segment_shot.meshes[index].face_count))
+                      for span, segment_shot, segment_table in segments]
+        else:
+            values = [(None, face_first_contact_times(table, index, mesh.face_count))]
+        touching_faces = sum(int((~np.isnan(times)).sum()) for _, times in values)
         spec = Sdf.CreatePrimInLayer(layer, Sdf.Path(mesh.path))
         spec.specifier = Sdf.SpecifierOver
 
         count = Sdf.AttributeSpec(spec, ATTR_CONTACT_FACE_COUNT, Sdf.ValueTypeNames.Int, declaresCustom=True)
-        count.default = int(touching.sum())
+        count.default = touching_faces
         relationship = Sdf.RelationshipSpec(spec, REL_CONTACTS_WITH, custom=True)
         relationship.targetPathList.explicitItems = [
             Sdf.Path(other) for other in sorted(paths[i] for i in touched_meshes(table, index).tolist())]
-        if touching.any():
+        rows = (table.mesh_a == index) | (table.mesh_b == index)
+        if rows.any():
             first = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double,
                                       declaresCustom=True)
-            first.default = float(np.nanmin(face_times))
+            first.default = float(table.time[rows].min())
 
         primvar = Sdf.AttributeSpec(spec, PRIMVAR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.DoubleArray)
-        primvar.default = Vt.DoubleArray.FromNumpy(face_times)
         primvar.SetInfo("interpolation", "uniform")
-
-        colors = np.where(touching[:, None], np.array(CONTACT_COLOR, np.float32),
-                          np.array(CLEAN_COLOR, np.float32)).astype(np.float32)
         display = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR, Sdf.ValueTypeNames.Color3fArray)
-        display.default = Vt.Vec3fArray.FromNumpy(colors)
         display.SetInfo("interpolation", "uniform")
+        for span, face_times in values:
+            colors = np.where(~np.isnan(face_times)[:, None], np.array(CONTACT_COLOR, np.float32),
+                              np.array(CLEAN_COLOR, np.float32)).astype(np.float32)
+            if span is None:
+                primvar.default = Vt.DoubleArray.FromNumpy(face_times)
+                display.default = Vt.Vec3fArray.FromNumpy(colors)
+                continue
+            for time in sorted(set(span)):
+                layer.SetTimeSample(primvar.path, float(time), Vt.DoubleArray.FromNumpy(face_times))
+                layer.SetTimeSample(display.path, float(time), Vt.Vec3fArray.FromNumpy(colors))
         if _input_authors(shot.stage, mesh.path, PRIMVAR_DISPLAY_COLOR + ":indices"):
             indices = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR + ":indices", Sdf.ValueTypeNames.IntArray)
             indices.default = Sdf.ValueBlock()
     return layer.ExportToString()
+
+
+def _same_topology_everywhere(segments, index: int) -> bool:
+    reference = segments[0][1].meshes[index]
+    for _, segment_shot, _ in segments[1:]:
+        other = segment_shot.meshes[index]
+        if (other.face_count != reference.face_count or not np.array_equal(other.triangles, reference.triangles)
+                or not np.array_equal(other.triangle_face, reference.triangle_face)):
+            return False
+    return True
 
 
 def _input_authors(stage, prim_path: str, attribute_name: str) -> bool:

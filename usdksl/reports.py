@@ -112,6 +112,18 @@ class ContactTable:
                    mesh_b=mesh_b.astype(np.int32), face_b=face_b.astype(np.int32), feature=feature)
 
     @classmethod
+    def concatenate(cls, tables: Sequence["ContactTable"]) -> "ContactTable":
+        """Tables of consecutive, disjoint time segments of one shot, in time order. Rows are kept as they
+        are (no first-contact merge across segments: face indices may refer to different topologies)."""
+        if len(tables) == 1:
+            return tables[0]
+        if any(table.paths != tables[0].paths for table in tables):
+            raise ValueError("segments of one shot loaded different meshes")
+        return cls(paths=list(tables[0].paths),
+                   **{name: np.concatenate([getattr(table, name) for table in tables])
+                      for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")})
+
+    @classmethod
     def empty(cls, paths: Sequence[str]) -> "ContactTable":
         zeros = np.zeros(0, np.int32)
         return cls(paths=list(paths), time=np.zeros(0), mesh_a=zeros, face_a=zeros, mesh_b=zeros,

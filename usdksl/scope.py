@@ -123,7 +123,7 @@ class Plan:
         lines = [f"pairs checked: {self.checked_pairs} of {self.possible_pairs} possible "
                  f"({self.mesh_count} meshes, {int(self.moving.sum())} moving)"]
         for (i, j), reason in list(zip(self.pairs.tolist(), self.pair_reasons))[:max_listed]:
-            name = self.paths[i] if i == j else f"{self.paths[i]} x {self.paths[j]}"
+            name = self.paths[i] if i == j else " x ".join(sorted((self.paths[i], self.paths[j])))
             lines.append(f"  check {name}: {reason}")
         if self.checked_pairs > max_listed:
             lines.append(f"  ... and {self.checked_pairs - max_listed} more checked pairs")
@@ -399,3 +399,31 @@ def _single_points_sample(stage, path: str) -> bool:
 
     mesh = UsdGeom.Mesh(stage.GetPrimAtPath(path))
     return bool(mesh) and mesh.GetPointsAttr().GetNumTimeSamples() == 1
+
+
+def merge_plans(plans: Sequence[Plan]) -> Plan:
+    """One plan for a shot checked in several time segments (same meshes, same order): a pair is checked
+    when any segment checks it (with that segment's reason); a pair or mesh is reported skipped with the
+    first segment's reason only when no segment checks it."""
+    if len(plans) == 1:
+        return plans[0]
+    first = plans[0]
+    reasons: Dict[Tuple[int, int], str] = {}
+    for plan in plans:
+        if plan.paths != first.paths:
+            raise ValueError("segments of one shot loaded different meshes")
+        for pair, reason in zip(map(tuple, plan.pairs.tolist()), plan.pair_reasons):
+            reasons.setdefault(pair, reason)
+    ordered = sorted(reasons)
+    pairs = np.array(ordered, dtype=np.int32).reshape(-1, 2)
+    checked_meshes = set(pairs.reshape(-1).tolist())
+    notes: List[str] = []
+    for plan in plans:
+        notes.extend(note for note in plan.notes if note not in notes)
+    return Plan(paths=list(first.paths), kinds=list(first.kinds),
+                moving=np.logical_or.reduce([plan.moving for plan in plans]), pairs=pairs,
+                pair_reasons=[reasons[pair] for pair in ordered],
+                skipped_meshes={i: r for i, r in first.skipped_meshes.items()
+                                if i not in checked_meshes and all(i in p.skipped_meshes for p in plans)},
+                skipped_pairs=[(i, j, r) for i, j, r in first.skipped_pairs if (i, j) not in reasons],
+                notes=notes, excluded_paths=list(first.excluded_paths))
