@@ -303,7 +303,7 @@ def _self_collision(prim) -> bool:
 
 
 def _group_filtered(stage, paths) -> np.ndarray:
-    from pxr import Usd, UsdPhysics
+    from pxr import UsdPhysics
 
     count = len(paths)
     table = UsdPhysics.CollisionGroup.ComputeCollisionGroupTable(stage)

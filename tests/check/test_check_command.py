@@ -12,7 +12,7 @@ from xml.etree import ElementTree
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from pxr import Sdf, Ts, Usd, UsdGeom, Vt
+from pxr import Ts, Usd, UsdGeom, Vt
 
 from usdksl.cli.main import main
 from usdksl.collision import find_contacts

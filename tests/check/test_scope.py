@@ -1,7 +1,6 @@
 """Scene scoping: which pairs get checked and why the rest is skipped."""
 
 import numpy as np
-import pytest
 from pxr import Sdf, UsdGeom, UsdPhysics
 
 from usdksl import scope
