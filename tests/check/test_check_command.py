@@ -395,3 +395,16 @@ def test_points_count_change_is_checked_per_segment(tmp_path):
     assert result.exit_code == 0, result.stderr
     assert "/World/Grows: topology changes between time 1 and 9" in result.stderr
     assert (tmp_path / "out" / "grows.contacts.csv").is_file()
+
+
+def test_fifty_mesh_plan_is_printed_with_its_counter(tmp_path):
+    from .test_scope import _fifty_mesh_scene
+
+    path = tmp_path / "fifty.usda"
+    _fifty_mesh_scene(path)
+    junit = tmp_path / "junit.xml"
+    result = run([path, "--out", tmp_path / "out", "--junit", junit])
+    assert result.exit_code == 1, result.stderr          # the falling cloth passes through M00
+    assert "usdksl: pairs checked: 98 of 1275 possible (50 meshes, 2 moving)" in result.stderr
+    assert f"skip {48 * 47 // 2} pairs: both never move" in result.stderr
+    assert len(ElementTree.parse(junit).getroot().find("testsuite").findall("testcase")) == 98
