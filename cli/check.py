@@ -65,6 +65,8 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
     if not thickness >= 0:
         raise UsdkslUsageError(f"--thickness must be zero or positive, got {thickness!r}")
 
+    if not os.path.isfile(shot):
+        open_stage(shot)   # a missing input is reported as such, before anything about the output folder
     out_dir = Path(out) if out else Path(shot).resolve().parent
     check_writable_directory(out_dir)
     extra_targets = [resolve_output_path(value) for value in (json_path, junit_path)]
