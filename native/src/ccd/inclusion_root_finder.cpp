@@ -93,6 +93,7 @@ public:
         const double vs[2] = {box.v_lo, box.v_hi};
         double corner[2][2][2][3];
         bool inside = true;
+        double axis_lo[3], axis_hi[3];
         for (int k = 0; k < 3; ++k) {
             double lo = INFINITY, hi = -INFINITY;
             for (int it = 0; it < 2; ++it) {
@@ -111,17 +112,46 @@ public:
                 if (!std::isnan(lo) && !std::isnan(hi)) return Verdict::Excluded;
             }
             if (!(lo >= -bound_[k] && hi <= bound_[k])) inside = false;
+            axis_lo[k] = lo;
+            axis_hi[k] = hi;
         }
         if (inside) return Verdict::Inside;
-        if (excluded_by_directions(corner)) return Verdict::Excluded;
+        double projected[MAX_DIRECTIONS][8];
+        if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
+
+        // Refine where it can pay: pick the constraint (axis or direction)
+        // whose hull lies most outside its bound, then report how much each
+        // parameter moves that constraint.
+        double best_fraction = -1.0;
+        int best_constraint = 0;
+        auto consider = [&](double lo, double hi, double bound, int id) {
+            const double width = hi - lo;
+            if (!(width > 0.0)) return;
+            const double fraction = std::max(hi - bound, -bound - lo) / width;
+            if (fraction > best_fraction) {
+                best_fraction = fraction;
+                best_constraint = id;
+            }
+        };
+        for (int k = 0; k < 3; ++k) consider(axis_lo[k], axis_hi[k], bound_[k], k);
+        for (int i = 0; i < direction_count_; ++i) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (int c = 0; c < 8; ++c) {
+                lo = std::min(lo, projected[i][c]);
+                hi = std::max(hi, projected[i][c]);
+            }
+            consider(lo, hi, directions_[i].bound, 3 + i);
+        }
+        auto value = [&](int it, int iu, int iv) {
+            return best_constraint < 3 ? corner[it][iu][iv][best_constraint]
+                                       : projected[best_constraint - 3][it * 4 + iu * 2 + iv];
+        };
         variation[0] = variation[1] = variation[2] = 0.0;
         for (int a = 0; a < 2; ++a) {
             for (int b = 0; b < 2; ++b) {
-                for (int k = 0; k < 3; ++k) {
-                    variation[0] = std::max(variation[0], std::abs(corner[1][a][b][k] - corner[0][a][b][k]));
-                    variation[1] = std::max(variation[1], std::abs(corner[a][1][b][k] - corner[a][0][b][k]));
-                    variation[2] = std::max(variation[2], std::abs(corner[a][b][1][k] - corner[a][b][0][k]));
-                }
+                variation[0] = std::max(variation[0], std::abs(value(1, a, b) - value(0, a, b)));
+                variation[1] = std::max(variation[1], std::abs(value(a, 1, b) - value(a, 0, b)));
+                variation[2] = std::max(variation[2], std::abs(value(a, b, 1) - value(a, b, 0)));
             }
         }
         return Verdict::Straddles;
@@ -165,13 +195,15 @@ public:
         d.bound = (thickness * euclidean_length + error_bound) * CCD_BOUND_INFLATION;
     }
 
-    bool excluded_by_directions(const double corner[2][2][2][3]) const {
+    bool excluded_by_directions(const double corner[2][2][2][3],
+                                double projected[][8]) const {
         for (int i = 0; i < direction_count_; ++i) {
             const Direction& d = directions_[i];
             double lo = INFINITY, hi = -INFINITY;
             for (int c = 0; c < 8; ++c) {
                 const double* f = corner[c >> 2][(c >> 1) & 1][c & 1];
                 const double g = d.n[0] * f[0] + d.n[1] * f[1] + d.n[2] * f[2];
+                projected[i][c] = g;
                 lo = std::min(lo, g);
                 hi = std::max(hi, g);
             }
@@ -252,6 +284,16 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             if (widths[d] > tolerance && variation[d] > best_variation) {
                 best_variation = variation[d];
                 split_axis = d;
+            }
+        }
+        if (split_axis >= 0 && !(best_variation > 0.0)) {
+            split_axis = -1;
+            double widest = 0.0;
+            for (int d = 0; d < 3; ++d) {
+                if (widths[d] > tolerance && widths[d] > widest) {
+                    widest = widths[d];
+                    split_axis = d;
+                }
             }
         }
         if (split_axis < 0) {
