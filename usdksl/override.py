@@ -19,6 +19,9 @@ Per checked mesh it authors:
 ``color3f[] primvars:displayColor`` (interpolation uniform)
     red for faces that touch, neutral grey for the others, so usdview shows where. Any
     ``primvars:displayColor:indices`` the input authors is blocked, or it would re-index the colours.
+
+Meshes inside instances are made visible to these opinions by authoring ``instanceable = false`` on
+their instances in this layer (the input keeps its instancing).
 """
 
 from __future__ import annotations
@@ -106,6 +109,11 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
         else:
             values = [(None, face_first_contact_times(table, index, mesh.face_count))]
         touching_faces = sum(int((~np.isnan(times)).sum()) for _, times in values)
+        for instance_path in _enclosing_instances(shot.stage, mesh.path):
+            # opinions below an instance are ignored; de-instance it in this review layer only
+            instance = Sdf.CreatePrimInLayer(layer, Sdf.Path(instance_path))
+            instance.specifier = Sdf.SpecifierOver
+            instance.instanceable = False
         spec = Sdf.CreatePrimInLayer(layer, Sdf.Path(mesh.path))
         spec.specifier = Sdf.SpecifierOver
 
@@ -138,6 +146,17 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
             indices = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR + ":indices", Sdf.ValueTypeNames.IntArray)
             indices.default = Sdf.ValueBlock()
     return layer.ExportToString()
+
+
+def _enclosing_instances(stage, prim_path: str):
+    """Paths of the instances a mesh lives under (outermost first), so their overs can take effect."""
+    prim = stage.GetPrimAtPath(prim_path) if stage is not None else None
+    found = []
+    while prim and prim.IsInstanceProxy():
+        prim = prim.GetParent()
+        if prim.IsInstance():
+            found.append(str(prim.GetPath()))
+    return list(reversed(found))
 
 
 def _same_topology_everywhere(segments, index: int) -> bool:

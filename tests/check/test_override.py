@@ -145,3 +145,32 @@ def test_relative_sublayer_path(tmp_path):
     assert relative_sublayer_path(tmp_path / "a" / "s.usd", tmp_path / "a") == "./s.usd"
     assert relative_sublayer_path(tmp_path / "a" / "s.usd", tmp_path / "b" / "c") == "../../a/s.usd"
     assert not os.path.isabs(relative_sublayer_path("/x/y/s.usd", "/x/z"))
+
+
+def test_meshes_inside_instances_get_their_results(tmp_path):
+    path = tmp_path / "instanced.usda"
+    stage = new_stage(path)
+    add_mesh(stage, "/Prototypes/Prop/Geo", STRIP_POINTS, STRIP_COUNTS, STRIP_INDICES)
+    for name, x in (("A", 0.0), ("B", 5.0)):
+        instance = UsdGeom.Xform.Define(stage, f"/World/{name}")
+        instance.AddTranslateOp().Set((x, 0.0, 0.0))
+        instance.GetPrim().GetReferences().AddInternalReference("/Prototypes/Prop")
+        instance.GetPrim().SetInstanceable(True)
+    stage.GetPrimAtPath("/Prototypes").SetSpecifier(Sdf.SpecifierClass)
+    stage.GetRootLayer().Save()
+    shot = load_shot(str(path))
+    paths = [m.path for m in shot.meshes]
+    assert "/World/A/Geo" in paths
+    a = paths.index("/World/A/Geo")
+    table = ContactTable.from_face_contacts(contacts([(3.0, a, 1, a, 0, 2)]), paths)
+    layer_path = tmp_path / "instanced.usdksl.usda"
+    layer_path.write_text(build_override_layer(shot, range(len(paths)), table, layer_path))
+    layered = Usd.Stage.Open(str(layer_path))
+    times = UsdGeom.PrimvarsAPI(layered.GetPrimAtPath("/World/A/Geo")).GetPrimvar("usdksl:firstContactTime").Get()
+    assert list(times) == [3.0, 3.0]
+    assert layered.GetPrimAtPath("/World/A/Geo").GetAttribute("usdksl:contactFaceCount").Get() == 2
+    original = Usd.Stage.Open(str(path))
+    assert original.GetPrimAtPath("/World/A").IsInstance()            # the input keeps its instancing
+    points = UsdGeom.Mesh(layered.GetPrimAtPath("/World/B/Geo")).GetPointsAttr().Get()
+    assert np.array_equal(np.asarray(points), np.asarray(
+        UsdGeom.Mesh(original.GetPrimAtPath("/World/B/Geo")).GetPointsAttr().Get()))
