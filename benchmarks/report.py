@@ -1,0 +1,302 @@
+"""The accuracy/time page: benchmarks/results/REPORT.md and its PNG plots, from run.py's rows.
+
+    python benchmarks/report.py RESULTS.json      # rows written by run.py --results
+
+Plots (matplotlib, Agg): time against missed contacts (discrete, substepped, swept, KSL), KSL events
+against swept-volume BV tests per sample interval over mesh size (paper Fig. 11), time against samples
+per keyframe (paper Fig. 10). The narrow-phase tolerance sweep of ccd_tolerance.py is embedded when its
+outputs are present. Every ratio on the page comes from one run.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+from typing import Dict, List, Optional, Sequence
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from run import METHODS, REFERENCE, ksl_events, ratio_rows  # noqa: E402
+
+ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "discrete x8")
+SUMMARY_JSON = "bench_results.json"
+
+
+def _ok(row: Dict, label: str) -> Optional[Dict]:
+    record = row["methods"].get(label)
+    return record if record and record.get("status") == "ok" else None
+
+
+def _groups(rows: Sequence[Dict]) -> Dict[str, List[Dict]]:
+    """Rows of the same scene and size (differing only in samples per keyframe), in sampling order."""
+    groups: Dict[str, List[Dict]] = {}
+    for row in rows:
+        shot = row["shot"]
+        key = f"{shot['scene']} {shot['size']}" if shot.get("size") else shot["scene"]
+        groups.setdefault(key, []).append(row)
+    for members in groups.values():
+        members.sort(key=lambda r: r["shot"].get("samples_per_keyframe") or 0)
+    return groups
+
+
+def _shot_title(shot: Dict) -> str:
+    spk = shot.get("samples_per_keyframe")
+    head = f"{shot['scene']} {shot['size']}" if shot.get("size") else shot["scene"]
+    sampling = f", {spk} samples/keyframe" if spk else ""
+    return (f"{head}{sampling}: {shot['triangles']} triangles ({shot['moving_triangles']} moving), "
+            f"{shot['samples']} samples")
+
+
+def _fmt(value, spec: str = ".3g") -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return ""
+    return format(value, spec)
+
+
+def method_table(row: Dict) -> List[str]:
+    lines = ["| method | time (s) | x KSL | peak mem (MiB) | KSL events | BV tests | narrow-phase tests "
+             "| found | missed vs KSL | extra vs KSL | max abs first-contact error (time codes) |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in ratio_rows(row["methods"]):
+        if r["status"] != "ok":
+            lines.append(f"| {r['method']} | {r['status']}: {r['reason']} |  |  |  |  |  |  |  |  |  |")
+            continue
+        unit = " intervals" if r.get("unit") == "intervals" else ""
+        lines.append(
+            f"| {r['method']} | {r['wall_s']:.3f} | {r['time_vs_ksl']:.2f} | {r['peak_mib']:.1f} "
+            f"| {_fmt(r['events'], 'd')} | {_fmt(r['bv_tests'], 'd')} | {_fmt(r['narrow_phase_tests'], 'd')} "
+            f"| {_fmt(r.get('found'), 'd')}{unit if 'found' in r else ''} | {_fmt(r.get('missed'), 'd')} "
+            f"| {_fmt(r.get('extra'), 'd')} | {_fmt(r.get('time_error_max'))} |")
+    return lines
+
+
+# --------------------------------------------------------------------------- headlines
+
+def headlines(rows: Sequence[Dict]) -> List[str]:
+    """The issue's targets, each with what this run reached (or why it could not say)."""
+    lines = []
+    groups = _groups(rows)
+
+    def largest(scene: str) -> Optional[List[Dict]]:
+        sized = [(members[0]["shot"].get("size") or 0, members) for key, members in groups.items()
+                 if members[0]["shot"]["scene"] == scene]
+        return max(sized, key=lambda item: item[0])[1] if sized else None
+
+    def densest_pair(members, a, b) -> Optional[tuple]:
+        for row in reversed(members):
+            ra, rb = _ok(row, a), _ok(row, b)
+            if ra and rb:
+                return row, ra, rb
+        return None
+
+    for scene, target in (("tablecloth", 20.0), ("swirl", 2.0)):
+        members = largest(scene)
+        found = densest_pair(members, "ksl", "swept") if members else None
+        if not found:
+            lines.append(f"- KSL vs swept on {scene}: not measured in this run.")
+            continue
+        row, ksl, swept = found
+        ratio = swept["wall_s"] / ksl["wall_s"]
+        verdict = "met" if ratio >= target else f"missed by {target / ratio:.1f}x"
+        lines.append(f"- KSL vs swept on {_shot_title(row['shot'])}: swept/KSL time **{ratio:.2f}x** "
+                     f"(target >= {target:g}x: {verdict}); KSL {ksl['wall_s']:.2f} s, swept {swept['wall_s']:.2f} s; "
+                     f"narrow-phase tests KSL {ksl['counters']['narrow_phase_tests']} vs swept "
+                     f"{swept['counters']['narrow_phase_tests']}, KSL events {ksl_events(ksl['counters'])} vs swept "
+                     f"BV tests {swept['counters']['bv_tests']}.")
+    for key, members in groups.items():
+        with_ksl = [(r["shot"].get("samples_per_keyframe"), _ok(r, "ksl")) for r in members]
+        with_ksl = [(s, k) for s, k in with_ksl if s and k]
+        if len(with_ksl) >= 2:
+            (s0, k0), (s1, k1) = with_ksl[0], with_ksl[-1]
+            growth = k1["wall_s"] / k0["wall_s"] - 1.0
+            verdict = "met" if growth <= 0.20 else "missed"
+            lines.append(f"- KSL time growth on {key} from {s0} to {s1} samples/keyframe: **{growth:+.0%}** "
+                         f"({k0['wall_s']:.2f} s -> {k1['wall_s']:.2f} s; target within 20%: {verdict}).")
+    members = largest("tablecloth")
+    found = densest_pair(members, "ksl", "read") if members else None
+    if found:
+        row, ksl, read = found
+        ratio = ksl["wall_s"] / read["wall_s"]
+        verdict = "met" if ratio <= 1.0 else f"missed: CCD is {ratio:.1f}x the read"
+        lines.append(f"- CCD vs USD read on {_shot_title(row['shot'])}: KSL {ksl['wall_s']:.2f} s = **{ratio:.2f}x** "
+                     f"the read time {read['wall_s']:.2f} s (target <= 1x: {verdict}).")
+    ipc_rows = [(r, _ok(r, "check"), _ok(r, "ipctk")) for r in rows]
+    ipc_rows = [item for item in ipc_rows if item[1] and item[2]]
+    if ipc_rows:
+        ratios = [(ip["load_s"] + ip["wall_s"]) / ch["wall_s"] for _, ch, ip in ipc_rows]
+        best = max(range(len(ratios)), key=lambda i: ratios[i])
+        worst = min(range(len(ratios)), key=lambda i: ratios[i])
+        lines.append(f"- End-to-end `usdksl check` vs the ipctk sweep (load + LBVH + collision-free step size per "
+                     f"interval, which answers only the earliest contact per interval): ipctk/check time from "
+                     f"**{ratios[worst]:.2f}x** ({_shot_title(ipc_rows[worst][0]['shot'])}) to "
+                     f"**{ratios[best]:.2f}x** ({_shot_title(ipc_rows[best][0]['shot'])}) "
+                     f"(target >= 10x: {'met' if ratios[worst] >= 10 else 'missed'}).")
+    return lines
+
+
+# --------------------------------------------------------------------------- plots
+
+def _plot_time_vs_missed(rows, path) -> bool:
+    import matplotlib.pyplot as plt
+    groups = _groups(rows)
+    panels = [members[-1] for members in groups.values() if _ok(members[-1], "ksl")]
+    if not panels:
+        return False
+    columns = min(len(panels), 3)
+    lines_count = math.ceil(len(panels) / columns)
+    fig, axes = plt.subplots(lines_count, columns, figsize=(4.6 * columns, 3.8 * lines_count), squeeze=False)
+    for ax, row in zip(axes.flat, panels):
+        for label in ACCURACY_METHODS:
+            record = _ok(row, label)
+            if not record:
+                continue
+            missed = record.get("comparison", {}).get("missed", 0)
+            ax.scatter(record["wall_s"], missed, s=36)
+            ax.annotate(label, (record["wall_s"], missed), textcoords="offset points", xytext=(4, 4), fontsize=8)
+        ax.set_xscale("log")
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("face pairs missed vs KSL")
+        ax.set_title(f"{row['shot']['scene']} {row['shot'].get('size') or ''}, "
+                     f"{row['shot'].get('samples_per_keyframe') or '?'} spk", fontsize=9)
+        ax.grid(True, alpha=0.3)
+    for ax in list(axes.flat)[len(panels):]:
+        ax.axis("off")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def _plot_events_vs_bv(rows, path) -> bool:
+    import matplotlib.pyplot as plt
+    by_scene: Dict[str, Dict[str, list]] = {}
+    for members in _groups(rows).values():
+        row = members[-1]
+        ksl, swept = _ok(row, "ksl"), _ok(row, "swept")
+        intervals = max(row["shot"]["samples"] - 1, 1)
+        series = by_scene.setdefault(row["shot"]["scene"], {"n": [], "ksl": [], "swept": []})
+        if ksl:
+            series["n"].append(row["shot"]["moving_triangles"])
+            series["ksl"].append(ksl_events(ksl["counters"]) / intervals)
+            series["swept"].append(swept["counters"]["bv_tests"] / intervals if swept else float("nan"))
+    if not any(s["n"] for s in by_scene.values()):
+        return False
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for scene, series in by_scene.items():
+        order = sorted(range(len(series["n"])), key=lambda i: series["n"][i])
+        n = [series["n"][i] for i in order]
+        line, = ax.plot(n, [series["ksl"][i] for i in order], "o-", label=f"{scene}: KSL events")
+        ax.plot(n, [series["swept"][i] for i in order], "s--", color=line.get_color(),
+                label=f"{scene}: swept BV tests")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("moving triangles")
+    ax.set_ylabel("per sample interval")
+    ax.set_title("KSL events vs swept-volume BV tests (paper Fig. 11)", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def _plot_time_vs_samples(rows, path) -> bool:
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    plotted = False
+    for key, members in _groups(rows).items():
+        for label, style in (("ksl", "o-"), ("swept", "s--")):
+            points = [(r["shot"]["samples_per_keyframe"], _ok(r, label)) for r in members
+                      if r["shot"].get("samples_per_keyframe")]
+            points = [(s, rec["wall_s"]) for s, rec in points if rec]
+            if len(points) >= 2:
+                ax.plot(*zip(*points), style, label=f"{key} {label}")
+                plotted = True
+    if not plotted:
+        plt.close(fig)
+        return False
+    ax.set_yscale("log")
+    ax.set_xlabel("samples per keyframe (same keyframes)")
+    ax.set_ylabel("wall time (s)")
+    ax.set_title("Time vs samples per keyframe (paper Fig. 10)", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
+# --------------------------------------------------------------------------- the page
+
+def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_dir: str,
+           command: str = "", machine: str = "") -> str:
+    lines = ["# usdksl: what accuracy costs in time", ""]
+    lines += [f"Generated by `{command or 'python benchmarks/run.py'}` ({machine}). Every method ran in its own "
+              f"fresh interpreter, one after the other, on the same shots; time is wall time of the method call "
+              f"(shot already loaded) except `read` (the loader alone) and `check` (the whole `usdksl check` "
+              f"without interpreter start-up). Peak memory is the kernel's VmHWM above the RSS after loading "
+              f"(C++ allocations included). Per-method budget: {budget_s:g} s; methods over budget are listed as "
+              f"skipped with the reason, never dropped.", ""]
+    lines += ["Contacts are compared as authored face pairs (first contact per pair) against KSL of the same run. "
+              "`ipctk` (Tight-Inclusion CCD, LBVH broad phase, `compute_collision_free_stepsize` per sample interval "
+              "over one CollisionMesh of all meshes) answers only the earliest contact of each interval, so it is "
+              "compared per interval and its time is a lower bound on what our full answer would cost it; its "
+              "'extra' intervals are intervals where meshes are still in contact after their first contact, which "
+              "KSL reports once.", ""]
+    lines += ["## Headlines", ""] + headlines(rows) + [""]
+    lines += ["## Plots", ""]
+    captions = {"time_vs_missed.png": "Time against missed contacts (densest sampling of each shot)",
+                "events_vs_bv_tests.png": "KSL events vs swept BV tests per interval over mesh size (Fig. 11)",
+                "time_vs_samples.png": "Time against samples per keyframe (Fig. 10)"}
+    for name, caption in captions.items():
+        if plots.get(name):
+            lines += [f"![{caption}]({name})", ""]
+    if os.path.exists(os.path.join(out_dir, "ccd_tolerance.png")):
+        lines += ["### Narrow-phase tolerance sweep (benchmarks/ccd_tolerance.py)", "",
+                  "![CCD tolerance sweep](ccd_tolerance.png)", ""]
+    if os.path.exists(os.path.join(out_dir, "ccd_tolerance.md")):
+        lines += ["Table: [ccd_tolerance.md](ccd_tolerance.md).", ""]
+    lines += ["## Per shot", ""]
+    for row in rows:
+        lines += [f"### {_shot_title(row['shot'])}", ""] + method_table(row) + [""]
+    return "\n".join(lines) + "\n"
+
+
+def write_report(rows: Sequence[Dict], budget_s: float, out_dir: str, command: str = "") -> str:
+    import platform
+
+    import matplotlib
+    matplotlib.use("Agg")
+    os.makedirs(out_dir, exist_ok=True)
+    plots = {
+        "time_vs_missed.png": _plot_time_vs_missed(rows, os.path.join(out_dir, "time_vs_missed.png")),
+        "events_vs_bv_tests.png": _plot_events_vs_bv(rows, os.path.join(out_dir, "events_vs_bv_tests.png")),
+        "time_vs_samples.png": _plot_time_vs_samples(rows, os.path.join(out_dir, "time_vs_samples.png")),
+    }
+    machine = f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+    page = render(rows, budget_s, plots, out_dir, command, machine)
+    report_path = os.path.join(out_dir, "REPORT.md")
+    with open(report_path, "w") as handle:
+        handle.write(page)
+    with open(os.path.join(out_dir, SUMMARY_JSON), "w") as handle:
+        json.dump({"budget_s": budget_s, "command": command, "rows": rows}, handle, indent=1, default=float)
+    return report_path
+
+
+def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if len(argv) != 1:
+        print(__doc__.strip().splitlines()[2], file=sys.stderr)
+        return 2
+    with open(argv[0]) as handle:
+        data = json.load(handle)
+    print(write_report(data["rows"], data["budget_s"], os.path.join(HERE, "results"), data.get("command", "")))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,513 @@
+"""What accuracy costs in time: KSL against every baseline and the ipctk peer, on the same shots.
+
+    python benchmarks/run.py --quick            # ~10 minutes on 2 cores
+    python benchmarks/run.py --full             # the paper's grid (hours)
+    python benchmarks/run.py SHOT.usdc ...      # given shots (also: usdksl bench SHOT...)
+
+Every method runs in a fresh interpreter (one subprocess per shot and method, one after the other,
+never in parallel), so its peak memory can be read from the kernel (VmHWM, reset after loading via
+/proc/self/clear_refs; C++ allocations included, which tracemalloc would not see). Wall times are
+``time.perf_counter`` around the method call only; the shot is loaded before the clock starts,
+except for ``read`` (the loader alone: the I/O baseline) and ``check`` (the whole ``usdksl check``
+without interpreter start-up: load, scoping, KSL, CSV and override layer). Each method has a wall
+time budget; a method that exceeds it is killed and reported as skipped, and a method whose cheaper
+sibling already exceeded it (more substeps, more samples per keyframe) is skipped without running.
+
+Contacts are compared as authored face pairs against the KSL result of the same run: found, missed
+(in KSL, not in the method), extra (in the method, not in KSL) and the error of first-contact times
+on the pairs both found. ``ipctk`` answers one number per sample interval (the collision-free step
+size), so it is compared per interval: intervals where KSL has a contact and ipctk does not are
+missed, and the time error is that of the earliest contact of the interval.
+
+Results go to benchmarks/results/raw/ (git-ignored); ``--report`` writes benchmarks/results/REPORT.md,
+the PNG plots and the summary JSON they are made from (see report.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+RESULTS = os.path.join(HERE, "results")
+RAW = os.path.join(RESULTS, "raw")
+GENERATED = os.path.join(REPO, "samples", "generated")
+
+#: Counter names of the KSL events (all event types of the kinetic trees and separation lists).
+KSL_EVENT_COUNTERS = ("kinetic_tree_events", "bv_overlap_events", "fathers_do_not_overlap_events",
+                      "leaves_do_not_overlap_events", "polygons_collide_events", "bv_change_events")
+
+#: Method label -> (kind, discrete substeps). Labels are what tables and plots show.
+METHODS: Dict[str, Tuple[str, int]] = {
+    "read": ("read", 0),
+    "ksl": ("ksl", 1),
+    "swept": ("swept", 1),
+    "discrete": ("discrete", 1),
+    "discrete x2": ("discrete", 2),
+    "discrete x4": ("discrete", 4),
+    "discrete x8": ("discrete", 8),
+    "ipctk": ("ipctk", 0),
+    "check": ("check", 0),
+}
+REFERENCE = "ksl"
+
+#: Scenes of samples/generate.py and the size option each takes.
+SCENE_SIZES = {"tablecloth": (2000, 4000, 8000, 16000), "swirl": (4000, 8000, 16000, 33000),
+               "character": (35000, 60000, 90000)}
+KEYFRAMES = 11
+
+
+@dataclass(frozen=True)
+class Preset:
+    shots: Tuple[Tuple[str, int], ...]
+    samples_per_keyframe: Tuple[int, ...]
+    methods: Tuple[str, ...]
+    budget_s: float
+
+
+PRESETS = {
+    "quick": Preset(shots=(("tablecloth", 2000), ("tablecloth", 4000), ("swirl", 4000), ("character", 35000)),
+                    samples_per_keyframe=(1, 10),
+                    methods=("read", "ksl", "swept", "discrete", "discrete x2", "ipctk", "check"),
+                    budget_s=60.0),
+    "full": Preset(shots=tuple((scene, size) for scene, sizes in SCENE_SIZES.items() for size in sizes),
+                   samples_per_keyframe=(1, 2, 5, 10),
+                   methods=tuple(METHODS),
+                   budget_s=1800.0),
+}
+
+
+# --------------------------------------------------------------------------- pairs and comparison
+
+def benchmark_pairs(kinds: Sequence[str]) -> List[Tuple[int, int]]:
+    """Mesh pairs to check: self for deforming meshes, inter when at least one of the two moves.
+
+    Never static-static; rigid meshes get no self pair (they cannot change shape).
+    """
+    moving = [kind != "static" for kind in kinds]
+    pairs = []
+    for i, kind in enumerate(kinds):
+        if kind == "deforming":
+            pairs.append((i, i))
+        pairs.extend((i, j) for j in range(i + 1, len(kinds)) if moving[i] or moving[j])
+    return sorted(pairs)
+
+
+def _pair_keys(contacts: Dict[str, np.ndarray]) -> np.ndarray:
+    """One int64 structured key per face pair row, for set operations."""
+    columns = [np.asarray(contacts[name], np.int64) for name in ("mesh_a", "face_a", "mesh_b", "face_b")]
+    return np.stack(columns, axis=1) if columns[0].size else np.zeros((0, 4), np.int64)
+
+
+def compare_contacts(reference: Dict[str, np.ndarray], other: Dict[str, np.ndarray]) -> Dict[str, float]:
+    """Face-pair contacts of ``other`` against ``reference`` (dicts of time, mesh_a, face_a, mesh_b, face_b).
+
+    Both hold the first contact per face pair. Returns found / missed / extra counts and the
+    absolute error of the first-contact time over the pairs both report (max and mean; NaN if none).
+    """
+    ref_keys, other_keys = _pair_keys(reference), _pair_keys(other)
+    both = np.concatenate([ref_keys, other_keys])
+    _, inverse = np.unique(both, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    ref_ids, other_ids = inverse[:len(ref_keys)], inverse[len(ref_keys):]
+    common, ref_at, other_at = np.intersect1d(ref_ids, other_ids, assume_unique=True, return_indices=True)
+    errors = np.abs(np.asarray(other["time"], np.float64)[other_at] - np.asarray(reference["time"], np.float64)[ref_at])
+    return {
+        "found": int(len(other_keys)),
+        "missed": int(len(ref_keys) - len(common)),
+        "extra": int(len(other_keys) - len(common)),
+        "time_error_max": float(errors.max()) if errors.size else float("nan"),
+        "time_error_mean": float(errors.mean()) if errors.size else float("nan"),
+    }
+
+
+def compare_intervals(reference: Dict[str, np.ndarray], interval_start: np.ndarray, interval_time: np.ndarray,
+                      sample_times: np.ndarray) -> Dict[str, float]:
+    """An earliest-contact-per-interval answer (ipctk) against the reference's contacts.
+
+    ``interval_start[k]`` indexes ``sample_times``; ``interval_time[k]`` is the contact time found there.
+    A reference contact at time t belongs to the interval [t_k, t_k+1) that contains it (the last
+    interval is closed).
+    """
+    times = np.asarray(reference["time"], np.float64)
+    interval_of = np.clip(np.searchsorted(sample_times, times, side="right") - 1, 0, len(sample_times) - 2)
+    ref_intervals = np.unique(interval_of)
+    order = np.argsort(interval_of, kind="stable")
+    earliest = np.minimum.reduceat(times[order], np.searchsorted(interval_of[order], ref_intervals)) \
+        if ref_intervals.size else np.zeros(0)
+    common, ref_at, other_at = np.intersect1d(ref_intervals, np.asarray(interval_start, np.int64),
+                                              return_indices=True)
+    errors = np.abs(np.asarray(interval_time, np.float64)[other_at] - earliest[ref_at])
+    return {
+        "found": int(len(interval_start)),
+        "missed": int(len(ref_intervals) - len(common)),
+        "extra": int(len(interval_start) - len(common)),
+        "time_error_max": float(errors.max()) if errors.size else float("nan"),
+        "time_error_mean": float(errors.mean()) if errors.size else float("nan"),
+    }
+
+
+# --------------------------------------------------------------------------- one method in a worker
+
+def _proc_status_bytes(field_name: str) -> Optional[int]:
+    try:
+        with open("/proc/self/status") as status:
+            for line in status:
+                if line.startswith(field_name + ":"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return None
+
+
+def _reset_peak_rss() -> bool:
+    """Start VmHWM afresh from the current RSS (Linux >= 4.0); False when not possible."""
+    try:
+        with open("/proc/self/clear_refs", "w") as handle:
+            handle.write("5")
+        return True
+    except OSError:
+        return False
+
+
+def _peak_rss_bytes() -> int:
+    peak = _proc_status_bytes("VmHWM")
+    if peak is None:
+        import resource
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * (1 if sys.platform == "darwin" else 1024)
+    return peak
+
+
+def _mesh_points_at(mesh, times: np.ndarray) -> np.ndarray:
+    """float64[T, N, 3]: a mesh's points linearly interpolated at the given times (held outside its samples)."""
+    if len(mesh.times) == 1:
+        return np.broadcast_to(mesh.points[0], (len(times),) + mesh.points.shape[1:])
+    segment = np.clip(np.searchsorted(mesh.times, times, side="right") - 1, 0, len(mesh.times) - 2)
+    t0, t1 = mesh.times[segment], mesh.times[segment + 1]
+    weight = np.clip((times - t0) / (t1 - t0), 0.0, 1.0)[:, None, None]
+    return (1.0 - weight) * mesh.points[segment] + weight * mesh.points[segment + 1]
+
+
+def _triangle_edges(triangles: np.ndarray) -> np.ndarray:
+    edges = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    return np.unique(np.sort(edges, axis=1), axis=0).astype(np.int32)
+
+
+def _ipctk_sweep(shot) -> Tuple[np.ndarray, np.ndarray, Dict[str, int]]:
+    """ipctk as its users would run it: one CollisionMesh, an LBVH broad phase and
+    compute_collision_free_stepsize per sample interval. Returns (interval index, contact time) of every
+    interval whose step is below 1."""
+    import ipctk
+
+    times = np.asarray(shot.times, np.float64)
+    offsets = np.cumsum([0] + [m.vertex_count for m in shot.meshes])
+    faces = np.concatenate([m.triangles.astype(np.int64) + offsets[i] for i, m in enumerate(shot.meshes)])
+    faces = np.asfortranarray(faces.astype(np.int32))
+    positions = np.concatenate([_mesh_points_at(m, times) for m in shot.meshes], axis=1)  # [T, V, 3]
+    mesh = ipctk.CollisionMesh(np.asfortranarray(positions[0]), np.asfortranarray(_triangle_edges(faces)), faces)
+    broad_phase = ipctk.LBVH()
+    starts, contact_times = [], []
+    for k in range(len(times) - 1):
+        step = ipctk.compute_collision_free_stepsize(mesh, np.asfortranarray(positions[k]),
+                                                     np.asfortranarray(positions[k + 1]), 0.0, broad_phase)
+        if step < 1.0:
+            starts.append(k)
+            contact_times.append(times[k] + step * (times[k + 1] - times[k]))
+    return np.asarray(starts, np.int64), np.asarray(contact_times, np.float64), {"intervals": len(times) - 1}
+
+
+def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
+    """Run one method on one shot in this (fresh) process; write contacts to ``out_prefix``.npz."""
+    kind, substeps = METHODS[label]
+    record: Dict = {"label": label}
+    if kind == "read":
+        from usdksl.loader import load_shot
+        rss_before = _proc_status_bytes("VmRSS") or 0
+        _reset_peak_rss()
+        start = time.perf_counter()
+        shot = load_shot(shot_path)
+        record["wall_s"] = time.perf_counter() - start
+        record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before
+        record["points_bytes"] = int(sum(m.points.nbytes for m in shot.meshes))
+        np.savez(out_prefix + ".npz", time=np.zeros(0))
+        return record
+    if kind == "check":
+        from usdksl.cli.check import run_check
+        with tempfile.TemporaryDirectory(prefix="usdksl-bench-") as out_dir:
+            rss_before = _proc_status_bytes("VmRSS") or 0
+            _reset_peak_rss()
+            start = time.perf_counter()
+            result = run_check(shot_path, out=out_dir, echo=lambda *a, **k: None)
+            record["wall_s"] = time.perf_counter() - start
+            record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before
+        record["exit_code"] = int(result.exit_code)
+        np.savez(out_prefix + ".npz", time=np.zeros(0))
+        return record
+
+    from usdksl.loader import load_shot
+    load_start = time.perf_counter()
+    shot = load_shot(shot_path)
+    record["load_s"] = time.perf_counter() - load_start
+    rss_after_load = _proc_status_bytes("VmRSS") or 0
+    record["peak_reset"] = _reset_peak_rss()
+    if kind == "ipctk":
+        start = time.perf_counter()
+        interval_start, interval_time, counters = _ipctk_sweep(shot)
+        record["wall_s"] = time.perf_counter() - start
+        record["counters"] = counters
+        record["peak_mem_bytes"] = _peak_rss_bytes() - rss_after_load
+        np.savez(out_prefix + ".npz", interval_start=interval_start, time=interval_time,
+                 sample_times=np.asarray(shot.times, np.float64))
+        return record
+
+    from usdksl.collision import find_contacts
+    pairs = benchmark_pairs([m.kind for m in shot.meshes])
+    start = time.perf_counter()
+    result = find_contacts(shot.meshes, pairs, method=kind, discrete_substeps=max(substeps, 1))
+    faces = result.face_contacts(shot.meshes)
+    record["wall_s"] = time.perf_counter() - start
+    record["peak_mem_bytes"] = _peak_rss_bytes() - rss_after_load
+    record["counters"] = {k: int(v) for k, v in result.counters.items()}
+    record["triangle_contacts"] = len(result)
+    np.savez(out_prefix + ".npz", time=faces.time, mesh_a=faces.mesh_a, face_a=faces.face_a,
+             mesh_b=faces.mesh_b, face_b=faces.face_b, sample_times=np.asarray(shot.times, np.float64))
+    return record
+
+
+# --------------------------------------------------------------------------- the suite
+
+@dataclass
+class ShotInfo:
+    path: str
+    scene: str
+    size: Optional[int]
+    samples_per_keyframe: Optional[int]
+    triangles: int = 0
+    moving_triangles: int = 0
+    samples: int = 0
+    points_bytes: int = 0
+
+
+def describe_shot(path: str, scene: str = "", size: Optional[int] = None,
+                  samples_per_keyframe: Optional[int] = None) -> ShotInfo:
+    from usdksl.loader import load_shot
+    shot = load_shot(path)
+    return ShotInfo(path=path, scene=scene or os.path.splitext(os.path.basename(path))[0], size=size,
+                    samples_per_keyframe=samples_per_keyframe,
+                    triangles=int(sum(len(m.triangles) for m in shot.meshes)),
+                    moving_triangles=int(sum(len(m.triangles) for m in shot.meshes if m.kind != "static")),
+                    samples=int(len(shot.times)),
+                    points_bytes=int(sum(m.points.nbytes for m in shot.meshes)))
+
+
+def generated_shot(scene: str, size: int, samples_per_keyframe: int, keyframes: int = KEYFRAMES) -> str:
+    """Path of a samples/generate.py shot, generated when missing (same keyframes for every sampling)."""
+    path = os.path.join(GENERATED, f"{scene}_{size}_k{keyframes}_s{samples_per_keyframe}.usdc")
+    if not os.path.exists(path):
+        sys.path.insert(0, os.path.join(REPO, "samples"))
+        from generate import generate  # noqa: E402  (samples/ is a script folder)
+        generate(scene, size, keyframes=keyframes, samples_per_keyframe=samples_per_keyframe, out=path)
+    return path
+
+
+def run_method(shot_path: str, label: str, budget_s: float, raw_dir: str) -> Dict:
+    """One method on one shot in a fresh interpreter, killed after ``budget_s`` seconds."""
+    os.makedirs(raw_dir, exist_ok=True)
+    stem = os.path.splitext(os.path.basename(shot_path))[0]
+    prefix = os.path.join(raw_dir, f"{stem}.{label.replace(' ', '_')}")
+    command = [sys.executable, os.path.abspath(__file__), "--worker", shot_path, label, prefix]
+    start = time.perf_counter()
+    try:
+        completed = subprocess.run(command, capture_output=True, text=True, timeout=budget_s)
+    except subprocess.TimeoutExpired:
+        return {"label": label, "status": "skipped", "reason": f"exceeded the {budget_s:g} s budget"}
+    if completed.returncode != 0:
+        tail = " ".join(completed.stderr.strip().splitlines()[-1:]) or f"exit {completed.returncode}"
+        return {"label": label, "status": "failed", "reason": tail[:300]}
+    record = json.loads(completed.stdout.strip().splitlines()[-1])
+    record["status"] = "ok"
+    record["process_s"] = time.perf_counter() - start
+    record["contacts_file"] = prefix + ".npz"
+    return record
+
+
+def _load_contacts(path: str) -> Dict[str, np.ndarray]:
+    with np.load(path) as data:
+        return {name: data[name] for name in data.files}
+
+
+def add_comparisons(records: Dict[str, Dict]) -> None:
+    """Fill contacts found/missed/extra and time errors of every method against the KSL record."""
+    reference = records.get(REFERENCE)
+    if not reference or reference.get("status") != "ok":
+        return
+    ref = _load_contacts(reference["contacts_file"])
+    for label, record in records.items():
+        if record.get("status") != "ok" or METHODS[label][0] in ("read", "check"):
+            continue
+        other = _load_contacts(record["contacts_file"])
+        if METHODS[label][0] == "ipctk":
+            record["comparison"] = compare_intervals(ref, other["interval_start"], other["time"], ref["sample_times"])
+            record["comparison"]["unit"] = "intervals"
+        else:
+            record["comparison"] = compare_contacts(ref, other)
+            record["comparison"]["unit"] = "face pairs"
+
+
+def _skip_reason(label: str, done: Dict[str, Dict], history: Dict[Tuple[str, str], int],
+                 group: str, samples_per_keyframe: Optional[int], budget_s: float) -> Optional[str]:
+    kind, substeps = METHODS[label]
+    if kind == "discrete" and substeps > 1:
+        fewer = [l for l in done if METHODS[l][0] == "discrete" and METHODS[l][1] < substeps]
+        for other in fewer:
+            cheaper = done[other]
+            if cheaper.get("status") == "skipped":
+                return f"skipped: {other} already exceeded the {budget_s:g} s budget"
+            if cheaper.get("status") == "ok" and \
+                    cheaper["wall_s"] * substeps / max(METHODS[other][1], 1) > budget_s:
+                return (f"skipped: predicted {cheaper['wall_s'] * substeps / max(METHODS[other][1], 1):.0f} s "
+                        f"from {other} (budget {budget_s:g} s)")
+    timed_out_at = history.get((group, label))
+    if timed_out_at is not None and samples_per_keyframe is not None and samples_per_keyframe >= timed_out_at:
+        return f"skipped: exceeded the {budget_s:g} s budget at {timed_out_at} samples/keyframe"
+    return None
+
+
+def run_suite(shots: Sequence[ShotInfo], methods: Sequence[str], budget_s: float, raw_dir: str = RAW,
+              echo=print) -> List[Dict]:
+    """Every method on every shot (one shot after the other, methods in the given order, KSL first)."""
+    methods = [REFERENCE] + [m for m in methods if m != REFERENCE]
+    history: Dict[Tuple[str, str], int] = {}
+    rows = []
+    for shot in shots:
+        group = f"{shot.scene}:{shot.size}"
+        echo(f"== {os.path.basename(shot.path)}: {shot.triangles} triangles ({shot.moving_triangles} moving), "
+             f"{shot.samples} samples")
+        done: Dict[str, Dict] = {}
+        for label in methods:
+            reason = _skip_reason(label, done, history, group, shot.samples_per_keyframe, budget_s)
+            if reason:
+                done[label] = {"label": label, "status": "skipped", "reason": reason}
+            else:
+                done[label] = run_method(shot.path, label, budget_s, raw_dir)
+                if done[label]["status"] == "skipped" and shot.samples_per_keyframe is not None:
+                    history.setdefault((group, label), shot.samples_per_keyframe)
+            echo("   " + format_record(done[label]))
+        add_comparisons(done)
+        rows.append({"shot": shot.__dict__, "methods": done})
+        echo(format_ratios(done))
+    return rows
+
+
+# --------------------------------------------------------------------------- printing
+
+def ksl_events(counters: Dict[str, int]) -> int:
+    return int(sum(counters.get(name, 0) for name in KSL_EVENT_COUNTERS))
+
+
+def format_record(record: Dict) -> str:
+    if record.get("status") != "ok":
+        return f"{record['label']:<12} {record.get('status')}: {record.get('reason', '')}"
+    counters = record.get("counters", {})
+    parts = [f"{record['label']:<12} {record['wall_s']:9.3f} s", f"peak {record['peak_mem_bytes'] / 2**20:7.1f} MiB"]
+    if counters:
+        if record["label"] == "ksl":
+            parts.append(f"events {ksl_events(counters)}")
+        if "bv_tests" in counters:
+            parts.append(f"bv_tests {counters['bv_tests']}  narrow {counters['narrow_phase_tests']}")
+    return "  ".join(parts)
+
+
+def ratio_rows(records: Dict[str, Dict]) -> List[Dict]:
+    """One row per method: time and memory ratios to KSL, contacts found/missed/extra, time errors."""
+    reference = records.get(REFERENCE, {})
+    ref_time = reference.get("wall_s") if reference.get("status") == "ok" else None
+    rows = []
+    for label, record in records.items():
+        row = {"method": label, "status": record.get("status"), "reason": record.get("reason", "")}
+        if record.get("status") == "ok":
+            row["wall_s"] = record["wall_s"]
+            row["time_vs_ksl"] = record["wall_s"] / ref_time if ref_time else float("nan")
+            row["peak_mib"] = record["peak_mem_bytes"] / 2**20
+            counters = record.get("counters", {})
+            row["events"] = ksl_events(counters) if METHODS[label][0] == "ksl" else None
+            row["bv_tests"] = counters.get("bv_tests")
+            row["narrow_phase_tests"] = counters.get("narrow_phase_tests")
+            row.update(record.get("comparison", {}))
+        rows.append(row)
+    return rows
+
+
+def format_ratios(records: Dict[str, Dict]) -> str:
+    lines = []
+    for row in ratio_rows(records):
+        if row["status"] != "ok":
+            continue
+        text = f"   {row['method']}/KSL time {row['time_vs_ksl']:.2f}x"
+        if "missed" in row:
+            text += (f", found {row['found']} missed {row['missed']} extra {row['extra']} {row['unit']}"
+                     f", first-contact time error max {row['time_error_max']:.3g}")
+        lines.append(text)
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- command line
+
+def preset_shots(preset: Preset) -> List[ShotInfo]:
+    shots = []
+    for scene, size in preset.shots:
+        for samples in preset.samples_per_keyframe:
+            path = generated_shot(scene, size, samples)
+            shots.append(describe_shot(path, scene, size, samples))
+    return shots
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["--worker"]:
+        record = worker(argv[1], argv[2], argv[3])
+        print(json.dumps(record))
+        return 0
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("shots", nargs="*", help="USD shots (instead of a preset)")
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--quick", action="store_true", help="small preset (~10 minutes)")
+    group.add_argument("--full", action="store_true", help="the paper's grid (hours)")
+    parser.add_argument("--methods", default=None,
+                        help=f"comma-separated subset of: {', '.join(METHODS)}")
+    parser.add_argument("--budget", type=float, default=None, help="wall seconds per method and shot")
+    parser.add_argument("--results", default=None, help="write the rows as JSON to this file")
+    parser.add_argument("--report", action="store_true",
+                        help="also write benchmarks/results/REPORT.md and plots from these rows")
+    args = parser.parse_args(argv)
+    preset = PRESETS["full" if args.full else "quick"]
+    methods = args.methods.split(",") if args.methods else list(preset.methods)
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown:
+        parser.error(f"unknown methods: {', '.join(unknown)}")
+    budget = args.budget if args.budget is not None else preset.budget_s
+    shots = [describe_shot(path) for path in args.shots] if args.shots else preset_shots(preset)
+    command = "python benchmarks/run.py " + " ".join(argv)
+    rows = run_suite(shots, methods, budget)
+    if args.results:
+        with open(args.results, "w") as handle:
+            json.dump({"budget_s": budget, "command": command, "rows": rows}, handle, indent=1, default=float)
+    if args.report:
+        sys.path.insert(0, HERE)
+        from report import write_report  # noqa: E402  (benchmarks/ is a script folder)
+        print("wrote", write_report(rows, budget, RESULTS, command))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
