@@ -56,16 +56,17 @@ def _fmt(value, spec: str = ".3g") -> str:
 
 
 def method_table(row: Dict) -> List[str]:
-    lines = ["| method | time (s) | x KSL | peak mem (MiB) | KSL events | BV tests | narrow-phase tests "
+    lines = ["| method | time (s) | x KSL | CPU (s) | peak mem (MiB) | KSL events | BV tests | narrow-phase tests "
              "| found | missed vs KSL | extra vs KSL | max abs first-contact error (time codes) |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in ratio_rows(row["methods"]):
         if r["status"] != "ok":
-            lines.append(f"| {r['method']} | {r['status']}: {r['reason']} |  |  |  |  |  |  |  |  |  |")
+            lines.append(f"| {r['method']} | {r['status']}: {r['reason']} |  |  |  |  |  |  |  |  |  |  |")
             continue
         unit = " intervals" if r.get("unit") == "intervals" else ""
         lines.append(
-            f"| {r['method']} | {r['wall_s']:.3f} | {r['time_vs_ksl']:.2f} | {r['peak_mib']:.1f} "
+            f"| {r['method']} | {r['wall_s']:.3f} | {r['time_vs_ksl']:.2f} | {_fmt(r.get('cpu_s'), '.3f')} "
+            f"| {r['peak_mib']:.1f} "
             f"| {_fmt(r['events'], 'd')} | {_fmt(r['bv_tests'], 'd')} | {_fmt(r['narrow_phase_tests'], 'd')} "
             f"| {_fmt(r.get('found'), 'd')}{unit if 'found' in r else ''} | {_fmt(r.get('missed'), 'd')} "
             f"| {_fmt(r.get('extra'), 'd')} | {_fmt(r.get('time_error_max'))} |")

@@ -234,9 +234,10 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
         from usdksl.loader import load_shot
         rss_before = _proc_status_bytes("VmRSS") or 0
         _reset_peak_rss()
-        start = time.perf_counter()
+        start, cpu_start = time.perf_counter(), time.process_time()
         shot = load_shot(shot_path)
         record["wall_s"] = time.perf_counter() - start
+        record["cpu_s"] = time.process_time() - cpu_start
         record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before
         record["points_bytes"] = int(sum(m.points.nbytes for m in shot.meshes))
         np.savez(out_prefix + ".npz", time=np.zeros(0))
@@ -246,9 +247,10 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
         with tempfile.TemporaryDirectory(prefix="usdksl-bench-") as out_dir:
             rss_before = _proc_status_bytes("VmRSS") or 0
             _reset_peak_rss()
-            start = time.perf_counter()
+            start, cpu_start = time.perf_counter(), time.process_time()
             result = run_check(shot_path, out=out_dir, echo=lambda *a, **k: None)
             record["wall_s"] = time.perf_counter() - start
+            record["cpu_s"] = time.process_time() - cpu_start
             record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before
         record["exit_code"] = int(result.exit_code)
         np.savez(out_prefix + ".npz", time=np.zeros(0))
@@ -261,9 +263,10 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
     rss_after_load = _proc_status_bytes("VmRSS") or 0
     record["peak_reset"] = _reset_peak_rss()
     if kind == "ipctk":
-        start = time.perf_counter()
+        start, cpu_start = time.perf_counter(), time.process_time()
         interval_start, interval_time, counters = _ipctk_sweep(shot)
         record["wall_s"] = time.perf_counter() - start
+        record["cpu_s"] = time.process_time() - cpu_start
         record["counters"] = counters
         record["peak_mem_bytes"] = _peak_rss_bytes() - rss_after_load
         np.savez(out_prefix + ".npz", interval_start=interval_start, time=interval_time,
@@ -272,10 +275,11 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
 
     from usdksl.collision import find_contacts
     pairs = benchmark_pairs([m.kind for m in shot.meshes])
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), time.process_time()
     result = find_contacts(shot.meshes, pairs, method=kind, discrete_substeps=max(substeps, 1))
     faces = result.face_contacts(shot.meshes)
     record["wall_s"] = time.perf_counter() - start
+    record["cpu_s"] = time.process_time() - cpu_start
     record["peak_mem_bytes"] = _peak_rss_bytes() - rss_after_load
     record["counters"] = {k: int(v) for k, v in result.counters.items()}
     record["triangle_contacts"] = len(result)
@@ -372,14 +376,14 @@ def _skip_reason(label: str, done: Dict[str, Dict], history: Dict[Tuple[str, str
         for other in fewer:
             cheaper = done[other]
             if cheaper.get("status") == "skipped":
-                return f"skipped: {other} already exceeded the {budget_s:g} s budget"
+                return f"{other} already exceeded the {budget_s:g} s budget"
             if cheaper.get("status") == "ok" and \
                     cheaper["wall_s"] * substeps / max(METHODS[other][1], 1) > budget_s:
-                return (f"skipped: predicted {cheaper['wall_s'] * substeps / max(METHODS[other][1], 1):.0f} s "
+                return (f"predicted {cheaper['wall_s'] * substeps / max(METHODS[other][1], 1):.0f} s "
                         f"from {other} (budget {budget_s:g} s)")
     timed_out_at = history.get((group, label))
     if timed_out_at is not None and samples_per_keyframe is not None and samples_per_keyframe >= timed_out_at:
-        return f"skipped: exceeded the {budget_s:g} s budget at {timed_out_at} samples/keyframe"
+        return f"exceeded the {budget_s:g} s budget at {timed_out_at} samples/keyframe"
     return None
 
 
@@ -437,6 +441,7 @@ def ratio_rows(records: Dict[str, Dict]) -> List[Dict]:
         row = {"method": label, "status": record.get("status"), "reason": record.get("reason", "")}
         if record.get("status") == "ok":
             row["wall_s"] = record["wall_s"]
+            row["cpu_s"] = record.get("cpu_s")
             row["time_vs_ksl"] = record["wall_s"] / ref_time if ref_time else float("nan")
             row["peak_mib"] = record["peak_mem_bytes"] / 2**20
             counters = record.get("counters", {})

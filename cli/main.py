@@ -17,6 +17,7 @@ def _register():
     main.add_command(info)
     from .check import check; main.add_command(check)  # noqa: E702
     from .crosscheck import crosscheck; main.add_command(crosscheck)  # noqa: E702
+    from .bench import bench; main.add_command(bench)  # noqa: E702
 
 
 _register()
