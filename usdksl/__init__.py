@@ -6,11 +6,26 @@ user needs are re-exported here.
 
 from importlib.metadata import PackageNotFoundError, version
 
-from . import _native  # noqa: F401  (re-exported below)
+from . import _native  # noqa: F401  (private; wrapped by the modules below)
+from . import ccd
+from .collision import CollisionResult, FaceContacts, find_contacts
+from .errors import UsdkslInputError, UsdkslUsageError
+from .loader import MeshData, Shot, load_shot
 
 try:
     __version__ = version("usdksl")
 except PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.0.0"
 
-__all__ = ["__version__"]
+__all__ = [
+    "__version__",
+    "ccd",
+    "CollisionResult",
+    "FaceContacts",
+    "find_contacts",
+    "load_shot",
+    "MeshData",
+    "Shot",
+    "UsdkslInputError",
+    "UsdkslUsageError",
+]

@@ -90,9 +90,19 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
         }
         offsets_.push_back(static_cast<int64_t>(key_times_.size()));
     }
+    segment_hint_.assign(offsets_.begin(), offsets_.end() - 1);
 }
 
 int64_t Flightplans::segment_of(int32_t v, double t) const {
+    const int64_t end = offsets_[v + 1];
+    int64_t k = segment_hint_[v];
+    for (int step = 0; step < 2 && k < end; ++step, ++k) {
+        if (key_times_[k] <= t && (k + 1 == end || key_times_[k + 1] > t)) return segment_hint_[v] = k;
+    }
+    return segment_hint_[v] = search_segment(v, t);
+}
+
+int64_t Flightplans::search_segment(int32_t v, double t) const {
     const auto first = key_times_.begin() + offsets_[v];
     const auto last = key_times_.begin() + offsets_[v + 1];
     auto it = std::upper_bound(first, last, t);
@@ -110,7 +120,13 @@ double Flightplans::coord(int32_t v, int axis, double t) const {
 }
 
 Vec3 Flightplans::position(int32_t v, double t) const {
-    return Vec3(coord(v, 0, t), coord(v, 1, t), coord(v, 2, t));
+    const int64_t k = segment_of(v, t);
+    const Eigen::Map<const Vec3> p0(&key_points_[3 * k]);
+    if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return p0;
+    const Eigen::Map<const Vec3> p1(&key_points_[3 * (k + 1)]);
+    const double w = (t - key_times_[k]) / (key_times_[k + 1] - key_times_[k]);
+    // Same arithmetic as coord(), so positions and single coordinates agree bit for bit.
+    return Vec3(p0[0] + w * (p1[0] - p0[0]), p0[1] + w * (p1[1] - p0[1]), p0[2] + w * (p1[2] - p0[2]));
 }
 
 double Flightplans::next_breakpoint(int32_t v, double t) const {

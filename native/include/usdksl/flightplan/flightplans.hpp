@@ -60,7 +60,12 @@ public:
     int64_t breakpoint_count() const { return static_cast<int64_t>(key_times_.size()); }
 
 private:
+    int64_t search_segment(int32_t v, double t) const;
+
     std::vector<int64_t> offsets_;
+    /// Last segment found per vertex: queries mostly move forward in time, so
+    /// the answer is usually this segment or the next (a cache, not state).
+    mutable std::vector<int64_t> segment_hint_;
     std::vector<double> key_times_;
     std::vector<double> key_points_;
     double max_abs_coordinate_ = 0.0;
