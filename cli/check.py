@@ -18,6 +18,7 @@ import click
 import numpy as np
 
 from .. import __version__
+from ..crosscheck import crosscheck_csv_path, crosscheck_shot
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..interpolation import reject_spline_motion
 from ..loader import load_shot, mesh_prims, open_stage
@@ -32,6 +33,9 @@ METHODS = ("ksl", "swept", "discrete", "brute")
 # Like linters (ruff): abnormal termination shares the "could not check" code, never 1 ("contacts found").
 INTERNAL_ERROR_EXIT_CODE = 2
 
+
+#: Exit code when the Embree cross-check disagrees with the continuous result.
+CROSSCHECK_DISAGREES = 3
 
 @dataclass
 class CheckResult:
@@ -56,7 +60,7 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
               time_range: Optional[Tuple[float, float]] = None, prims: Sequence[str] = (),
               exclude: Sequence[str] = (), include_guides: bool = False, include_invisible: bool = False,
               json_path: Optional[str] = None, junit_path: Optional[str] = None,
-              echo=None, stdout=None) -> CheckResult:
+              crosscheck: bool = False, echo=None, stdout=None) -> CheckResult:
     """The whole command without click: raises UsdkslInputError / UsdkslUsageError on bad input."""
     echo = echo or (lambda text: click.echo(text, err=True))
     started = time.monotonic()
@@ -112,6 +116,21 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
 
     exit_code = 1 if table.count else 0
     stem = shot_stem(shot)
+    crosscheck_text = None
+    if crosscheck:
+        # Embree at every sample, against the contacts just found (per constant-topology segment).
+        results = [crosscheck_shot(segment, contacts=segment_table, pairs=segment_plan.pairs,
+                                   time_range=segment_range)
+                   for (segment_range, segment), segment_plan, segment_table in zip(segments, plans, tables)]
+        for result in results:
+            for line in result.error_lines():
+                echo(f"usdksl: error: {line}")
+            echo(f"usdksl: {result.summary_line()}")
+        crosscheck_text = "".join(
+            text if index == 0 else text.split("\n", 1)[1]
+            for index, text in enumerate(result.csv_text() for result in results))
+        if not all(result.consistent for result in results):
+            exit_code = CROSSCHECK_DISAGREES
     layer_path = out_dir / f"{stem}.usdksl.usda"
     settings = {"method": method, "tolerance": tolerance, "thickness": thickness, "self": self_check,
                 "inter": inter_check, "time_range": list(time_range) if time_range else None,
@@ -121,6 +140,8 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
     transaction = OutputTransaction()
     transaction.write_text(out_dir / f"{stem}.contacts.csv", table.contacts_csv())
     transaction.write_text(out_dir / f"{stem}.summary.csv", table.summary_csv())
+    if crosscheck_text is not None:
+        transaction.write_text(crosscheck_csv_path(shot, out_dir), crosscheck_text)
     transaction.write_text(layer_path, build_override_layer(
         loaded, checked_meshes, table, layer_path,
         segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1 else None))
@@ -205,12 +226,15 @@ def _check_segment(segment, plan, segment_range, method, tolerance, thickness, p
 @click.option("--include-guides", is_flag=True, help="Also check meshes with purpose guide.")
 @click.option("--include-invisible", is_flag=True,
               help="Also check meshes that are invisible over the whole checked range.")
+@click.option("--crosscheck", is_flag=True,
+              help="Also intersect every sample with Embree and check it against the contacts "
+                   "(writes <stem>.crosscheck.csv; exit 3 when they disagree).")
 @click.option("--json", "json_path", metavar="FILE", default=None,
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
               help="Also write a JUnit XML report: one testsuite per shot, one testcase per checked pair.")
 def check(shot, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, json_path, junit_path):
+          include_guides, include_invisible, crosscheck, json_path, junit_path):
     """Find the first contacts in SHOT and write them to CSV and to a USD override layer.
 
     Exit code 0: clean; 1: contacts found; 2: usage or input error (no output written). The plan, warnings
@@ -220,7 +244,8 @@ def check(shot, out, method, tolerance, thickness, self_check, inter_check, time
         result = run_check(shot, out=out, method=method, tolerance=tolerance, thickness=thickness,
                            self_check=self_check, inter_check=inter_check, time_range=time_range,
                            prims=prims, exclude=exclude, include_guides=include_guides,
-                           include_invisible=include_invisible, json_path=json_path, junit_path=junit_path)
+                           include_invisible=include_invisible, json_path=json_path, junit_path=junit_path,
+                           crosscheck=crosscheck)
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)
         sys.exit(error.exit_code)
