@@ -28,14 +28,22 @@ CrossingTime first_gap_change(const AxisGap& gap, GapChange change, double t_fro
     double t = t_from;
     double f_start = gap.at(t);
     if (satisfies(change, f_start)) return {t, false};
+    // Walk with local segment indices: looking ahead must not move the
+    // flightplans' cursors away from the current time.
     int64_t ka = gap.a_plans->segment_of(gap.a_vertex, t);
     int64_t kb = gap.b_plans->segment_of(gap.b_vertex, t);
+    const auto gap_at = [&](double when) {
+        while (ka + 1 < gap.a_plans->key_end(gap.a_vertex) && gap.a_plans->key_time(ka + 1) <= when) ++ka;
+        while (kb + 1 < gap.b_plans->key_end(gap.b_vertex) && gap.b_plans->key_time(kb + 1) <= when) ++kb;
+        return gap.a_plans->coord_in_segment(gap.a_vertex, ka, gap.axis, when) -
+               gap.b_plans->coord_in_segment(gap.b_vertex, kb, gap.axis, when) + gap.offset;
+    };
     for (int piece = 0; piece < max_pieces; ++piece) {
         if (t >= t_limit) return {kInfinity, false};
         const double piece_end = std::min({breakpoint_after(*gap.a_plans, gap.a_vertex, ka, t),
                                            breakpoint_after(*gap.b_plans, gap.b_vertex, kb, t), t_limit});
         if (piece_end == kInfinity) return {kInfinity, false};  // both hold still from here on
-        const double f_end = gap.at(piece_end);
+        const double f_end = gap_at(piece_end);
         if (satisfies(change, f_end)) {
             // f is linear on [t, piece_end]: interpolate the root, then step one
             // ulp earlier so that rounding never makes the event late.

@@ -110,15 +110,6 @@ int64_t Flightplans::search_segment(int32_t v, double t) const {
     return static_cast<int64_t>(it - key_times_.begin()) - 1;
 }
 
-double Flightplans::coord(int32_t v, int axis, double t) const {
-    const int64_t k = segment_of(v, t);
-    if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return key_points_[3 * k + axis];
-    const double t0 = key_times_[k], t1 = key_times_[k + 1];
-    const double p0 = key_points_[3 * k + axis], p1 = key_points_[3 * (k + 1) + axis];
-    const double w = (t - t0) / (t1 - t0);
-    return p0 + w * (p1 - p0);
-}
-
 Vec3 Flightplans::position(int32_t v, double t) const {
     const int64_t k = segment_of(v, t);
     const Eigen::Map<const Vec3> p0(&key_points_[3 * k]);

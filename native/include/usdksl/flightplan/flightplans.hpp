@@ -41,7 +41,17 @@ public:
     int64_t segment_of(int32_t v, double t) const;
 
     /// @brief Coordinate `axis` of vertex v at time code t.
-    double coord(int32_t v, int axis, double t) const;
+    double coord(int32_t v, int axis, double t) const { return coord_in_segment(v, segment_of(v, t), axis, t); }
+
+    /// @brief Coordinate `axis` of vertex v at time code t, given the segment k
+    ///        that contains t (as segment_of(v, t) returns it).
+    double coord_in_segment(int32_t v, int64_t k, int axis, double t) const {
+        if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return key_points_[3 * k + axis];
+        const double t0 = key_times_[k], t1 = key_times_[k + 1];
+        const double p0 = key_points_[3 * k + axis], p1 = key_points_[3 * (k + 1) + axis];
+        const double w = (t - t0) / (t1 - t0);
+        return p0 + w * (p1 - p0);
+    }
 
     /// @brief Position of vertex v at time code t.
     Vec3 position(int32_t v, double t) const;
