@@ -63,7 +63,9 @@ def test_command_agrees_with_the_continuous_check(samples_dir, tmp_path, name, e
     the core fails this test instead of the session)."""
     command = [sys.executable, "-c", "from usdksl.cli.main import main; main()", "crosscheck",
                str(samples_dir / f"{name}.usda"), "--out", str(tmp_path)]
-    finished = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    # From a neutral folder: `python -c` puts the working directory first on sys.path, and the
+    # source tree's usdksl/ (no native module) must not shadow the installed package.
+    finished = subprocess.run(command, capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert finished.returncode == expected_exit, finished.stderr[-2000:]
     assert "consistent" in finished.stderr
     assert (tmp_path / f"{name}.crosscheck.csv").is_file()
