@@ -28,6 +28,7 @@ from ..progress import Progress
 from ..reports import ContactTable, json_report, junit_report, summary_line
 from ..scope import ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
 from ..segments import full_range, is_topology_change, split_range, topology_gaps
+from .options import parse_time_range
 
 METHODS = ("ksl", "swept", "discrete", "brute")
 # Like linters (ruff): abnormal termination shares the "could not check" code, never 1 ("contacts found").
@@ -44,15 +45,6 @@ class CheckResult:
     plan: object
     written: list
     summary: str
-
-
-def _time_range(ctx, param, value):
-    if value is None:
-        return None
-    start, end = value
-    if start > end:
-        raise click.BadParameter(f"start {start:g} is after end {end:g}")
-    return (start, end)
 
 
 def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", tolerance: float = 1e-6,
@@ -216,7 +208,7 @@ def _check_segment(segment, plan, segment_range, method, tolerance, thickness, p
               help="Self contacts of deforming meshes.")
 @click.option("--inter/--no-inter", "inter_check", default=True, show_default=True,
               help="Contacts between different meshes.")
-@click.option("--time-range", nargs=2, type=float, default=None, callback=_time_range, metavar="A B",
+@click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range, metavar="A B",
               help="Check only [A, B] (USD time codes), ends included.")
 @click.option("--prims", multiple=True, metavar="PATTERN",
               help="Check only meshes whose prim path matches (fnmatch; '*' crosses '/'; a prim path also "

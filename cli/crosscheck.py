@@ -7,15 +7,7 @@ import click
 from ..crosscheck import crosscheck_csv_path, crosscheck_shot, write_crosscheck_csv
 from ..errors import UsdkslInputError
 from ..loader import load_shot
-
-
-def _parse_time_range(ctx, param, value):
-    if value is None:
-        return None
-    start, end = value
-    if start > end:
-        raise click.BadParameter(f"start {start:g} is after end {end:g}")
-    return (start, end)
+from .options import parse_time_range
 
 
 @click.command()
@@ -27,7 +19,7 @@ def _parse_time_range(ctx, param, value):
               help="Check this contacts.csv instead of running the continuous check.")
 @click.option("--out", "out_dir", default=None, type=click.Path(file_okay=False, path_type=str),
               help="Folder for <stem>.crosscheck.csv (default: the shot's folder).")
-@click.option("--time-range", nargs=2, type=float, default=None, callback=_parse_time_range,
+@click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range,
               metavar="A B", help="Only the samples inside [A, B] (USD time codes), ends included.")
 def crosscheck(shot, frames, contacts_file, out_dir, time_range):
     """Intersect static frames of SHOT with Embree and check every intersecting face pair against the

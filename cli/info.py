@@ -6,6 +6,7 @@ import click
 
 from ..errors import UsdkslInputError
 from ..loader import load_shot
+from .options import parse_time_range
 
 
 def _time_span(times) -> str:
@@ -14,18 +15,9 @@ def _time_span(times) -> str:
     return f"{times[0]:g}..{times[-1]:g}"
 
 
-def _parse_time_range(ctx, param, value):
-    if value is None:
-        return None
-    start, end = value
-    if start > end:
-        raise click.BadParameter(f"start {start:g} is after end {end:g}")
-    return (start, end)
-
-
 @click.command()
 @click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
-@click.option("--time-range", nargs=2, type=float, default=None, callback=_parse_time_range,
+@click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range,
               metavar="A B", help="Only the samples inside [A, B] (USD time codes), ends included.")
 def info(shot, time_range):
     """Print each mesh of SHOT: faces, vertices, triangles, samples, time range, classification."""
