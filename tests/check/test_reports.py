@@ -3,29 +3,18 @@
 import csv
 import io
 import json
-from dataclasses import dataclass
 from xml.etree import ElementTree
 
 import numpy as np
 
+from usdksl.collision import FaceContacts
 from usdksl.reports import ContactTable, format_times, json_report, junit_report, summary_line
 from usdksl.scope import SceneFlags, plan_pairs
 
 
-@dataclass
-class FakeFaceContacts:
-    """Test input with FaceContacts' arrays (not a stand-in for the core: reports only read arrays)."""
-    time: np.ndarray
-    mesh_a: np.ndarray
-    face_a: np.ndarray
-    mesh_b: np.ndarray
-    face_b: np.ndarray
-    feature: np.ndarray
-
-
 def contacts(rows):
     columns = list(zip(*rows)) if rows else [[]] * 6
-    return FakeFaceContacts(np.array(columns[0], float), *(np.array(c, np.int32) for c in columns[1:5]),
+    return FaceContacts(np.array(columns[0], float), *(np.array(c, np.int32) for c in columns[1:5]),
                             np.array(columns[5], np.int8))
 
 
