@@ -70,13 +70,13 @@ def test_empty_table_has_headers_only():
 def test_large_table_is_deterministic_and_sorted():
     rng = np.random.default_rng(7)
     count = 100_000
-    raw = FakeFaceContacts(np.round(rng.uniform(0, 48, count), 3), rng.integers(0, 3, count).astype(np.int32),
+    raw = FaceContacts(np.round(rng.uniform(0, 48, count), 3), rng.integers(0, 3, count).astype(np.int32),
                            rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 3, count).astype(np.int32),
                            rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 4, count).astype(np.int8))
     paths = ["/c", "/a", "/b"]
     first = ContactTable.from_face_contacts(raw, paths).contacts_csv()
     permutation = rng.permutation(count)
-    shuffled = FakeFaceContacts(*(getattr(raw, name)[permutation] for name in
+    shuffled = FaceContacts(*(getattr(raw, name)[permutation] for name in
                                   ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
     second = ContactTable.from_face_contacts(shuffled, paths).contacts_csv()
     # the same face pair at the same time with different features can appear; ties break on feature
