@@ -1,6 +1,6 @@
 """The accuracy/time page: benchmarks/results/REPORT.md and its PNG plots, from run.py's rows.
 
-    python benchmarks/report.py RESULTS.json      # rows written by run.py --results
+    python benchmarks/report.py RESULTS.json...   # rows written by run.py --results (runs concatenated)
 
 Plots (matplotlib, Agg): time against missed contacts (discrete, substepped, swept, KSL), KSL events
 against swept-volume BV tests per sample interval over mesh size (paper Fig. 11), time against samples
@@ -56,16 +56,16 @@ def _fmt(value, spec: str = ".3g") -> str:
 
 
 def method_table(row: Dict) -> List[str]:
-    lines = ["| method | time (s) | x KSL | CPU (s) | peak mem (MiB) | KSL events | BV tests | narrow-phase tests "
+    lines = ["| method | time (s) | x KSL | CPU (s) | CPU x KSL | peak mem (MiB) | KSL events | BV tests | narrow-phase tests "
              "| found | missed vs KSL | extra vs KSL | max abs first-contact error (time codes) |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in ratio_rows(row["methods"]):
         if r["status"] != "ok":
-            lines.append(f"| {r['method']} | {r['status']}: {r['reason']} |  |  |  |  |  |  |  |  |  |  |")
+            lines.append(f"| {r['method']} | {r['status']}: {r['reason']} |  |  |  |  |  |  |  |  |  |  |  |")
             continue
         unit = " intervals" if r.get("unit") == "intervals" else ""
         lines.append(
-            f"| {r['method']} | {r['wall_s']:.3f} | {r['time_vs_ksl']:.2f} | {_fmt(r.get('cpu_s'), '.3f')} "
+            f"| {r['method']} | {r['wall_s']:.3f} | {r['time_vs_ksl']:.2f} | {_fmt(r.get('cpu_s'), '.3f')} | {_fmt(r.get('cpu_vs_ksl'), '.2f')} "
             f"| {r['peak_mib']:.1f} "
             f"| {_fmt(r['events'], 'd')} | {_fmt(r['bv_tests'], 'd')} | {_fmt(r['narrow_phase_tests'], 'd')} "
             f"| {_fmt(r.get('found'), 'd')}{unit if 'found' in r else ''} | {_fmt(r.get('missed'), 'd')} "
@@ -100,9 +100,12 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
             continue
         row, ksl, swept = found
         ratio = swept["wall_s"] / ksl["wall_s"]
+        cpu_ratio = swept["cpu_s"] / ksl["cpu_s"]
         verdict = "met" if ratio >= target else f"missed by {target / ratio:.1f}x"
         lines.append(f"- KSL vs swept on {_shot_title(row['shot'])}: swept/KSL time **{ratio:.2f}x** "
-                     f"(target >= {target:g}x: {verdict}); KSL {ksl['wall_s']:.2f} s, swept {swept['wall_s']:.2f} s; "
+                     f"(CPU {cpu_ratio:.2f}x; target >= {target:g}x: {verdict}); KSL {ksl['wall_s']:.2f} s, "
+                     f"swept {swept['wall_s']:.2f} s; primitive CCD queries KSL {ksl['counters']['primitive_queries']} "
+                     f"vs swept {swept['counters']['primitive_queries']}; "
                      f"narrow-phase tests KSL {ksl['counters']['narrow_phase_tests']} vs swept "
                      f"{swept['counters']['narrow_phase_tests']}, KSL events {ksl_events(ksl['counters'])} vs swept "
                      f"BV tests {swept['counters']['bv_tests']}.")
@@ -112,9 +115,11 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
         if len(with_ksl) >= 2:
             (s0, k0), (s1, k1) = with_ksl[0], with_ksl[-1]
             growth = k1["wall_s"] / k0["wall_s"] - 1.0
+            cpu_growth = k1["cpu_s"] / k0["cpu_s"] - 1.0
             verdict = "met" if growth <= 0.20 else "missed"
             lines.append(f"- KSL time growth on {key} from {s0} to {s1} samples/keyframe: **{growth:+.0%}** "
-                         f"({k0['wall_s']:.2f} s -> {k1['wall_s']:.2f} s; target within 20%: {verdict}).")
+                         f"(CPU {cpu_growth:+.0%}; {k0['wall_s']:.2f} s -> {k1['wall_s']:.2f} s; target within 20%: "
+                         f"{verdict}).")
     members = largest("tablecloth")
     found = densest_pair(members, "ksl", "read") if members else None
     if found:
@@ -240,8 +245,10 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
               f"fresh interpreter, one after the other, on the same shots; time is wall time of the method call "
               f"(shot already loaded) except `read` (the loader alone) and `check` (the whole `usdksl check` "
               f"without interpreter start-up). Peak memory is the kernel's VmHWM above the RSS after loading "
-              f"(C++ allocations included). Per-method budget: {budget_s:g} s; methods over budget are listed as "
-              f"skipped with the reason, never dropped.", ""]
+              f"(C++ allocations included). Per-method budget: {budget_s if isinstance(budget_s, str) else format(budget_s, 'g') + ' s'}; methods over budget are listed as "
+              f"skipped with the reason, never dropped. Timings are from a shared 2-core machine on which other jobs "
+              f"ran at the same time: wall times carry noise of up to ~2x between runs; the CPU column "
+              f"(process time; our core is single-threaded, ipctk may use a second thread) is steadier.", ""]
     lines += ["Contacts are compared as authored face pairs (first contact per pair) against KSL of the same run. "
               "`ipctk` (Tight-Inclusion CCD, LBVH broad phase, `compute_collision_free_stepsize` per sample interval "
               "over one CollisionMesh of all meshes) answers only the earliest contact of each interval, so it is "
@@ -290,12 +297,17 @@ def write_report(rows: Sequence[Dict], budget_s: float, out_dir: str, command: s
 
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    if len(argv) != 1:
+    if not argv:
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
         return 2
-    with open(argv[0]) as handle:
-        data = json.load(handle)
-    print(write_report(data["rows"], data["budget_s"], os.path.join(HERE, "results"), data.get("command", "")))
+    runs = []
+    for path in argv:
+        with open(path) as handle:
+            runs.append(json.load(handle))
+    rows = [row for run in runs for row in run["rows"]]
+    budgets = ", ".join(f"{run['budget_s']:g} s" for run in runs)
+    commands = "`; `".join(run.get("command", "") for run in runs)
+    print(write_report(rows, budgets, os.path.join(HERE, "results"), commands))
     return 0
 
 

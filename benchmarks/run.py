@@ -1,6 +1,7 @@
 """What accuracy costs in time: KSL against every baseline and the ipctk peer, on the same shots.
 
     python benchmarks/run.py --quick            # ~10 minutes on 2 cores
+    python benchmarks/run.py --headline         # tablecloth 16k at 1 and 10 samples/keyframe (~5 minutes)
     python benchmarks/run.py --full             # the paper's grid (hours)
     python benchmarks/run.py SHOT.usdc ...      # given shots (also: usdksl bench SHOT...)
 
@@ -80,6 +81,10 @@ PRESETS = {
                     samples_per_keyframe=(1, 10),
                     methods=("read", "ksl", "swept", "discrete", "discrete x2", "ipctk", "check"),
                     budget_s=60.0),
+    "headline": Preset(shots=(("tablecloth", 16000),),
+                       samples_per_keyframe=(1, 10),
+                       methods=("read", "ksl", "swept", "ipctk", "check"),
+                       budget_s=900.0),
     "full": Preset(shots=tuple((scene, size) for scene, sizes in SCENE_SIZES.items() for size in sizes),
                    samples_per_keyframe=(1, 2, 5, 10),
                    methods=tuple(METHODS),
@@ -423,7 +428,8 @@ def format_record(record: Dict) -> str:
     if record.get("status") != "ok":
         return f"{record['label']:<12} {record.get('status')}: {record.get('reason', '')}"
     counters = record.get("counters", {})
-    parts = [f"{record['label']:<12} {record['wall_s']:9.3f} s", f"peak {record['peak_mem_bytes'] / 2**20:7.1f} MiB"]
+    parts = [f"{record['label']:<12} {record['wall_s']:9.3f} s", f"CPU {record.get('cpu_s', float('nan')):9.3f} s",
+             f"peak {record['peak_mem_bytes'] / 2**20:7.1f} MiB"]
     if counters:
         if record["label"] == "ksl":
             parts.append(f"events {ksl_events(counters)}")
@@ -442,6 +448,8 @@ def ratio_rows(records: Dict[str, Dict]) -> List[Dict]:
         if record.get("status") == "ok":
             row["wall_s"] = record["wall_s"]
             row["cpu_s"] = record.get("cpu_s")
+            ref_cpu = reference.get("cpu_s") if ref_time else None
+            row["cpu_vs_ksl"] = record["cpu_s"] / ref_cpu if ref_cpu and record.get("cpu_s") else float("nan")
             row["time_vs_ksl"] = record["wall_s"] / ref_time if ref_time else float("nan")
             row["peak_mib"] = record["peak_mem_bytes"] / 2**20
             counters = record.get("counters", {})
@@ -458,7 +466,7 @@ def format_ratios(records: Dict[str, Dict]) -> str:
     for row in ratio_rows(records):
         if row["status"] != "ok":
             continue
-        text = f"   {row['method']}/KSL time {row['time_vs_ksl']:.2f}x"
+        text = f"   {row['method']}/KSL time {row['time_vs_ksl']:.2f}x (CPU {row['cpu_vs_ksl']:.2f}x)"
         if "missed" in row:
             text += (f", found {row['found']} missed {row['missed']} extra {row['extra']} {row['unit']}"
                      f", first-contact time error max {row['time_error_max']:.3g}")
@@ -488,6 +496,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--quick", action="store_true", help="small preset (~10 minutes)")
     group.add_argument("--full", action="store_true", help="the paper's grid (hours)")
+    group.add_argument("--headline", action="store_true",
+                       help="the target shot: tablecloth 16k at 1 and 10 samples/keyframe with read, KSL, "
+                            "swept, ipctk, check (swirl: give its shots explicitly)")
     parser.add_argument("--methods", default=None,
                         help=f"comma-separated subset of: {', '.join(METHODS)}")
     parser.add_argument("--budget", type=float, default=None, help="wall seconds per method and shot")
@@ -495,7 +506,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--report", action="store_true",
                         help="also write benchmarks/results/REPORT.md and plots from these rows")
     args = parser.parse_args(argv)
-    preset = PRESETS["full" if args.full else "quick"]
+    preset = PRESETS["full" if args.full else "headline" if args.headline else "quick"]
     methods = args.methods.split(",") if args.methods else list(preset.methods)
     unknown = [m for m in methods if m not in METHODS]
     if unknown:
