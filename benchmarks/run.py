@@ -309,7 +309,12 @@ class ShotInfo:
 
 def describe_shot(path: str, scene: str = "", size: Optional[int] = None,
                   samples_per_keyframe: Optional[int] = None) -> ShotInfo:
+    """Sizes of a shot; scene, size and sampling default to those in a samples/generate.py file name."""
+    import re
     from usdksl.loader import load_shot
+    named = re.fullmatch(r"([a-z]+)_(\d+)_k\d+_s(\d+)", os.path.splitext(os.path.basename(path))[0])
+    if named and not scene:
+        scene, size, samples_per_keyframe = named.group(1), int(named.group(2)), int(named.group(3))
     shot = load_shot(path)
     return ShotInfo(path=path, scene=scene or os.path.splitext(os.path.basename(path))[0], size=size,
                     samples_per_keyframe=samples_per_keyframe,
@@ -466,7 +471,7 @@ def format_ratios(records: Dict[str, Dict]) -> str:
     for row in ratio_rows(records):
         if row["status"] != "ok":
             continue
-        text = f"   {row['method']}/KSL time {row['time_vs_ksl']:.2f}x (CPU {row['cpu_vs_ksl']:.2f}x)"
+        text = f"   {row['method']}/KSL time {row['time_vs_ksl']:.3g}x (CPU {row['cpu_vs_ksl']:.3g}x)"
         if "missed" in row:
             text += (f", found {row['found']} missed {row['missed']} extra {row['extra']} {row['unit']}"
                      f", first-contact time error max {row['time_error_max']:.3g}")
@@ -475,6 +480,18 @@ def format_ratios(records: Dict[str, Dict]) -> str:
 
 
 # --------------------------------------------------------------------------- command line
+
+def source_revision() -> str:
+    """The checkout's commit, with '+modified' when tracked files differ from it (what was measured)."""
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True,
+                                text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=REPO,
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return commit + ("+modified" if dirty else "")
+
 
 def preset_shots(preset: Preset) -> List[ShotInfo]:
     shots = []
@@ -514,10 +531,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     budget = args.budget if args.budget is not None else preset.budget_s
     shots = [describe_shot(path) for path in args.shots] if args.shots else preset_shots(preset)
     command = "python benchmarks/run.py " + " ".join(argv)
+    revision = source_revision()
     rows = run_suite(shots, methods, budget)
     if args.results:
         with open(args.results, "w") as handle:
-            json.dump({"budget_s": budget, "command": command, "rows": rows}, handle, indent=1, default=float)
+            json.dump({"budget_s": budget, "command": command, "revision": revision, "rows": rows}, handle,
+                      indent=1, default=float)
     if args.report:
         sys.path.insert(0, HERE)
         from report import write_report  # noqa: E402  (benchmarks/ is a script folder)
