@@ -9,14 +9,23 @@ import sys
 
 import click
 
-_BENCHMARKS = os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))), "benchmarks")
+def _benchmark_folders():
+    """Where benchmarks/run.py may be: $USDKSL_BENCHMARKS, beside the package (editable install), or the
+    source checkout in the working directory (an installed wheel run from the repository)."""
+    configured = os.environ.get("USDKSL_BENCHMARKS")
+    if configured:
+        yield configured
+    yield os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))), "benchmarks")
+    yield os.path.join(os.getcwd(), "benchmarks")
 
 
 def _benchmark_module():
-    if not os.path.isfile(os.path.join(_BENCHMARKS, "run.py")):
-        raise click.UsageError("usdksl bench needs a source checkout (benchmarks/run.py beside the package)")
-    if _BENCHMARKS not in sys.path:
-        sys.path.insert(0, _BENCHMARKS)
+    folder = next((f for f in _benchmark_folders() if os.path.isfile(os.path.join(f, "run.py"))), None)
+    if folder is None:
+        raise click.UsageError("usdksl bench needs the source checkout's benchmarks/ folder: run it from the "
+                               "repository root or set USDKSL_BENCHMARKS")
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
     import run  # noqa: E402  (benchmarks/ is a script folder)
     return run
 
