@@ -1,0 +1,45 @@
+"""The computed sentences of the report: ratios of work counters and the verdicts against the targets."""
+
+import report
+
+
+def record(cpu_s, wall_s=None, **counters):
+    base = {name: 0 for name in ("kinetic_tree_events", "bv_overlap_events", "fathers_do_not_overlap_events",
+                                 "leaves_do_not_overlap_events", "polygons_collide_events", "bv_change_events",
+                                 "bv_tests", "narrow_phase_tests", "primitive_queries")}
+    base.update(counters)
+    return {"status": "ok", "cpu_s": cpu_s, "wall_s": wall_s or cpu_s, "counters": base}
+
+
+def test_counter_reading_states_work_ratios_and_cost_per_query():
+    ksl = record(10.0, polygons_collide_events=90, bv_overlap_events=10, bv_tests=100, narrow_phase_tests=50,
+                 primitive_queries=1_000_000)
+    swept = record(20.0, bv_tests=3000, narrow_phase_tests=500, primitive_queries=8_000_000)
+    sparse = record(5.0, bv_tests=300, narrow_phase_tests=50, primitive_queries=800_000)
+    text = report.counter_reading(ksl, swept, sparse)
+    assert "swept does 30.0x the BV tests, 10.0x the narrow-phase tests and 8.0x the primitive CCD queries" in text
+    assert "10.00 us against 2.50 us for swept" in text
+    assert "90% of KSL's events are polygons-collide events" in text and "close contact dominates" in text
+    assert "swept(dense)/swept(sparse) = 4.0x" in text
+
+
+def shot(scene, size, spk):
+    return {"scene": scene, "size": size, "samples_per_keyframe": spk, "triangles": size * 2,
+            "moving_triangles": size * 2, "samples": 10 * spk + 1}
+
+
+def test_headlines_judge_the_targets_on_the_largest_shot():
+    rows = [
+        {"shot": shot("tablecloth", 2000, 10), "methods": {"ksl": record(1.0), "swept": record(100.0)}},
+        {"shot": shot("tablecloth", 16000, 1), "methods": {"ksl": record(4.0), "read": record(8.0)}},
+        {"shot": shot("tablecloth", 16000, 10), "methods": {"ksl": record(5.0), "swept": record(50.0),
+                                                             "read": record(10.0)}},
+        {"shot": shot("swirl", 4000, 1), "methods": {"ksl": record(3.0), "swept": record(3.0)}},
+    ]
+    text = "\n".join(report.headlines(rows))
+    assert "tablecloth 16000, 10 samples/keyframe" in text and "swept/KSL time **10.00x**" in text
+    assert "target >= 20x: missed by 2.0x" in text
+    assert "swirl 4000" in text and "target >= 2x: missed by 2.0x" in text
+    assert "KSL time growth on tablecloth 16000 from 1 to 10 samples/keyframe: **+25%**" in text
+    assert "target within 20%: missed" in text
+    assert "**0.50x** the read time" in text and "target <= 1x: met" in text
