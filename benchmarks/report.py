@@ -136,6 +136,18 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
         verdict = "met" if judged <= 1.0 else f"missed: CCD is {judged:.1f}x the read in CPU time"
         lines.append(f"- CCD vs USD read on {_shot_title(row['shot'])}: KSL {ksl['wall_s']:.2f} s = **{ratio:.2f}x** "
                      f"the read time {read['wall_s']:.2f} s (target <= 1x: {verdict}).")
+    by_scene: Dict[str, List[str]] = {}
+    for key, members in groups.items():
+        for row in members:
+            ksl = _ok(row, "ksl")
+            if ksl and "peak_mem_bytes" in ksl:
+                per_k = ksl["peak_mem_bytes"] / 2**20 / (row["shot"]["moving_triangles"] / 1000)
+                by_scene.setdefault(row["shot"]["scene"], []).append(
+                    f"{row['shot']['moving_triangles']} tris x {row['shot']['samples']} samples: "
+                    f"{ksl['peak_mem_bytes'] / 2**20:.0f} MiB ({per_k:.1f} MiB per 1k triangles)")
+    for scene, items in by_scene.items():
+        lines.append(f"- KSL peak memory above the loaded shot on {scene} (target: linear in mesh size): "
+                     + "; ".join(items) + ".")
     ipc_rows = [(r, _ok(r, "check"), _ok(r, "ipctk")) for r in rows]
     ipc_rows = [item for item in ipc_rows if item[1] and item[2]]
     if ipc_rows:
