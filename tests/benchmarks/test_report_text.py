@@ -43,3 +43,18 @@ def test_headlines_judge_the_targets_on_the_largest_shot():
     assert "KSL time growth on tablecloth 16000 from 1 to 10 samples/keyframe: **+25%**" in text
     assert "target within 20%: missed" in text
     assert "**0.50x** the read time" in text and "target <= 1x: met" in text
+
+
+def test_rows_of_the_same_shot_merge_and_a_run_replaces_a_skip(suite_rows):
+    rows, _ = suite_rows
+    first = {"shot": rows[0]["shot"], "methods": {label: dict(r) for label, r in rows[0]["methods"].items()}}
+    first["methods"]["swept"] = {"label": "swept", "status": "skipped", "reason": "exceeded the 1 s budget"}
+    second = {"shot": rows[0]["shot"], "methods": {"swept": dict(rows[0]["methods"]["swept"]),
+                                                    "discrete": {"label": "discrete", "status": "skipped",
+                                                                 "reason": "exceeded the 1 s budget"}}}
+    merged = report.merge_rows([first, second])
+    assert len(merged) == 1
+    methods = merged[0]["methods"]
+    assert methods["swept"]["status"] == "ok" and methods["swept"]["comparison"]["missed"] == 0
+    assert methods["discrete"]["status"] == "ok"  # a later skip never hides a method that ran
+    assert list(methods)[0] == "read" and "ksl" in methods
