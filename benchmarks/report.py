@@ -388,18 +388,22 @@ def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
     skipped or failed (later runs win among those that ran); comparisons against KSL are recomputed."""
     merged: Dict[str, Dict] = {}
     for row in rows:
-        target = merged.setdefault(os.path.realpath(row["shot"]["path"]), {"shot": row["shot"], "methods": {}})
+        target = merged.setdefault(os.path.realpath(row["shot"]["path"]),
+                                   {"shot": row["shot"], "methods": {}, "sources": 0})
+        target["sources"] += 1
         for label, record in row["methods"].items():
             kept = target["methods"].get(label)
             if kept is None or record.get("status") == "ok" or kept.get("status") != "ok":
                 target["methods"][label] = record
+    result = []
     for row in merged.values():
         ordered = {label: row["methods"][label] for label in METHODS if label in row["methods"]}
-        row["methods"] = ordered
-        for record in ordered.values():
-            record.pop("comparison", None)
-        add_comparisons(ordered)
-    return list(merged.values())
+        if row["sources"] > 1:  # methods from several runs: compare them against the KSL that was kept
+            for record in ordered.values():
+                record.pop("comparison", None)
+            add_comparisons(ordered)
+        result.append({"shot": row["shot"], "methods": ordered})
+    return result
 
 
 def main(argv=None) -> int:
@@ -412,8 +416,11 @@ def main(argv=None) -> int:
         with open(path) as handle:
             runs.append(json.load(handle))
     rows = merge_rows([row for run in runs for row in run["rows"]])
-    budgets = ", ".join(f"{run['budget_s']:g} s" for run in runs)
-    commands = "\n".join(f"{run.get('command', '')}\t{run.get('revision', 'unknown')}" for run in runs)
+    budgets = ", ".join(run["budget_s"] if isinstance(run["budget_s"], str) else f"{run['budget_s']:g} s"
+                        for run in runs)
+    # a bench_results.json written by this page already lists its runs, one "command<TAB>source" per line
+    commands = "\n".join(run.get("command", "") if "\t" in run.get("command", "")
+                          else f"{run.get('command', '')}\t{run.get('revision', 'unknown')}" for run in runs)
     print(write_report(rows, budgets, os.path.join(HERE, "results"), commands))
     return 0
 

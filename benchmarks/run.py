@@ -61,6 +61,8 @@ METHODS: Dict[str, Tuple[str, int]] = {
     "check": ("check", 0),
 }
 REFERENCE = "ksl"
+#: Names this run's raw contact files, so runs never overwrite each other's (report.py re-reads them).
+RUN_ID = time.strftime("%Y%m%d-%H%M%S") + f"-{os.getpid()}"
 
 #: Scenes of samples/generate.py and the size option each takes.
 SCENE_SIZES = {"tablecloth": (2000, 4000, 8000, 16000), "swirl": (4000, 8000, 16000, 33000),
@@ -338,7 +340,7 @@ def run_method(shot_path: str, label: str, budget_s: float, raw_dir: str) -> Dic
     """One method on one shot in a fresh interpreter, killed after ``budget_s`` seconds."""
     os.makedirs(raw_dir, exist_ok=True)
     stem = os.path.splitext(os.path.basename(shot_path))[0]
-    prefix = os.path.join(raw_dir, f"{stem}.{label.replace(' ', '_')}")
+    prefix = os.path.join(raw_dir, f"{stem}.{label.replace(' ', '_')}.{RUN_ID}")
     command = [sys.executable, os.path.abspath(__file__), "--worker", shot_path, label, prefix]
     start = time.perf_counter()
     try:
