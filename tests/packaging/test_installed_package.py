@@ -11,7 +11,7 @@ import pytest
 import usdksl
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-EDITABLE = REPO_ROOT in Path(usdksl.__file__).resolve().parents
+EDITABLE = Path(usdksl.__file__).resolve().parent == REPO_ROOT / "usdksl"
 
 
 def _run_outside_repo(code, tmp_path):
