@@ -358,7 +358,10 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
                       "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
     lines += ["## Per shot", ""]
     for row in rows:
-        lines += [f"### {_shot_title(row['shot'])}", ""] + method_table(row) + [""]
+        sources = row.get("revisions") or []
+        note = [f"Source: {'; '.join(sources)}" + (" (methods from different builds: compare with care)"
+                                                     if len(sources) > 1 else ""), ""] if sources else []
+        lines += [f"### {_shot_title(row['shot'])}", ""] + note + method_table(row) + [""]
     return "\n".join(lines) + "\n"
 
 
@@ -389,8 +392,11 @@ def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
     merged: Dict[str, Dict] = {}
     for row in rows:
         target = merged.setdefault(os.path.realpath(row["shot"]["path"]),
-                                   {"shot": row["shot"], "methods": {}, "sources": 0})
+                                   {"shot": row["shot"], "methods": {}, "sources": 0, "revisions": []})
         target["sources"] += 1
+        for revision in row.get("revisions", []):
+            if revision not in target["revisions"]:
+                target["revisions"].append(revision)
         for label, record in row["methods"].items():
             kept = target["methods"].get(label)
             if kept is None or record.get("status") == "ok" or kept.get("status") != "ok":
@@ -402,7 +408,7 @@ def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
             for record in ordered.values():
                 record.pop("comparison", None)
             add_comparisons(ordered)
-        result.append({"shot": row["shot"], "methods": ordered})
+        result.append({"shot": row["shot"], "methods": ordered, "revisions": row["revisions"]})
     return result
 
 
@@ -415,6 +421,10 @@ def main(argv=None) -> int:
     for path in argv:
         with open(path) as handle:
             runs.append(json.load(handle))
+    for run in runs:
+        for row in run["rows"]:
+            if not row.get("revisions") and run.get("revision"):
+                row["revisions"] = [run["revision"]]
     rows = merge_rows([row for run in runs for row in run["rows"]])
     budgets = ", ".join(run["budget_s"] if isinstance(run["budget_s"], str) else f"{run['budget_s']:g} s"
                         for run in runs)
