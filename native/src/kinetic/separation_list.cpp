@@ -129,41 +129,42 @@ bool KineticSeparationLists::overlaps(const List& list, int32_t a, int32_t b, do
     return true;
 }
 
-double KineticSeparationLists::separation_time(const List& list, int32_t a, int32_t b, double t) {
-    if (list.self && a == b) return kInfinity;
+void KineticSeparationLists::box_gaps(const List& list, int32_t a, int32_t b, AxisGap gaps[6]) const {
+    // Per axis: max(a) - min(b) and max(b) - min(a), grown by the list's margin;
+    // the boxes overlap exactly while all six are >= 0.
     const KineticAabbTree& ta = *trees_[list.mesh_a];
     const KineticAabbTree& tb = *trees_[list.mesh_b];
     const double margin = margin_[&list - lists_.data()];
-    double earliest = kInfinity;
     for (int axis = 0; axis < 3; ++axis) {
-        const AxisGap gaps[2] = {
-            {&ta.plans(), ta.extreme(a, 2 * axis + 1), &tb.plans(), tb.extreme(b, 2 * axis), axis, margin},
-            {&tb.plans(), tb.extreme(b, 2 * axis + 1), &ta.plans(), ta.extreme(a, 2 * axis), axis, margin}};
-        for (const AxisGap& gap : gaps) {
-            const CrossingTime c =
-                first_gap_change(gap, GapChange::DropsBelowZero, t, std::min(earliest, t_end_), KINETIC_SEARCH_PIECES);
-            earliest = std::min(earliest, c.time);
-        }
+        gaps[2 * axis] = {&ta.plans(), ta.extreme(a, 2 * axis + 1), &tb.plans(), tb.extreme(b, 2 * axis), axis, margin};
+        gaps[2 * axis + 1] = {&tb.plans(), tb.extreme(b, 2 * axis + 1), &ta.plans(), ta.extreme(a, 2 * axis), axis,
+                              margin};
+    }
+}
+
+double KineticSeparationLists::separation_time(const List& list, int32_t a, int32_t b, double t) {
+    if (list.self && a == b) return kInfinity;
+    AxisGap gaps[6];
+    box_gaps(list, a, b, gaps);
+    double earliest = kInfinity;
+    for (const AxisGap& gap : gaps) {
+        const CrossingTime c =
+            first_gap_change(gap, GapChange::DropsBelowZero, t, std::min(earliest, t_end_), KINETIC_SEARCH_PIECES);
+        earliest = std::min(earliest, c.time);
     }
     return earliest;
 }
 
 double KineticSeparationLists::overlap_time(const List& list, int32_t a, int32_t b, double t) {
-    const KineticAabbTree& ta = *trees_[list.mesh_a];
-    const KineticAabbTree& tb = *trees_[list.mesh_b];
-    const double margin = margin_[&list - lists_.data()];
+    AxisGap gaps[6];
+    box_gaps(list, a, b, gaps);
     // Boxes overlap when all six gaps are >= 0; each gap's first rise is no
     // later than that moment, so their maximum is a bound that never fires late.
     double latest = t;
-    for (int axis = 0; axis < 3; ++axis) {
-        const AxisGap gaps[2] = {
-            {&ta.plans(), ta.extreme(a, 2 * axis + 1), &tb.plans(), tb.extreme(b, 2 * axis), axis, margin},
-            {&tb.plans(), tb.extreme(b, 2 * axis + 1), &ta.plans(), ta.extreme(a, 2 * axis), axis, margin}};
-        for (const AxisGap& gap : gaps) {
-            const CrossingTime c = first_gap_change(gap, GapChange::RisesToZero, t, t_end_, KINETIC_SEARCH_PIECES);
-            if (std::isinf(c.time)) return kInfinity;
-            latest = std::max(latest, c.time);
-        }
+    for (const AxisGap& gap : gaps) {
+        const CrossingTime c = first_gap_change(gap, GapChange::RisesToZero, t, t_end_, KINETIC_SEARCH_PIECES);
+        if (std::isinf(c.time)) return kInfinity;
+        latest = std::max(latest, c.time);
     }
     return latest;
 }

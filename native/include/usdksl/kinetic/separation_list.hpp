@@ -6,6 +6,7 @@
 #include "usdksl/collision/check.hpp"
 #include "usdksl/collision/scene.hpp"
 #include "usdksl/collision/triangle_pair_tester.hpp"
+#include "usdksl/flightplan/crossing.hpp"
 #include "usdksl/kinetic/event_queue.hpp"
 #include "usdksl/kinetic/kinetic_aabb_tree.hpp"
 
@@ -61,6 +62,7 @@ private:
     bool both_leaves(const List& list, int32_t a, int32_t b) const;
 
     // Kinetic geometry
+    void box_gaps(const List& list, int32_t a, int32_t b, AxisGap gaps[6]) const;
     bool overlaps(const List& list, int32_t a, int32_t b, double t);
     double separation_time(const List& list, int32_t a, int32_t b, double t);
     double overlap_time(const List& list, int32_t a, int32_t b, double t);
