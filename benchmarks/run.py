@@ -64,6 +64,10 @@ REFERENCE = "ksl"
 #: Names this run's raw contact files, so runs never overwrite each other's (report.py re-reads them).
 RUN_ID = time.strftime("%Y%m%d-%H%M%S") + f"-{os.getpid()}"
 
+#: Methods whose work grows with the number of samples: one that timed out at a sparser sampling of a shot is
+#: not run again at a denser one. KSL (and check, which runs it) is exempt: not growing is its point.
+SAMPLE_BOUND_KINDS = ("swept", "discrete", "ipctk")
+
 #: Scenes of samples/generate.py and the size option each takes.
 SCENE_SIZES = {"tablecloth": (2000, 4000, 8000, 16000), "swirl": (4000, 8000, 16000, 33000),
                "character": (35000, 60000, 90000)}
@@ -393,7 +397,7 @@ def _skip_reason(label: str, done: Dict[str, Dict], history: Dict[Tuple[str, str
                     cheaper["wall_s"] * substeps / max(METHODS[other][1], 1) > budget_s:
                 return (f"predicted {cheaper['wall_s'] * substeps / max(METHODS[other][1], 1):.0f} s "
                         f"from {other} (budget {budget_s:g} s)")
-    timed_out_at = history.get((group, label))
+    timed_out_at = history.get((group, label)) if kind in SAMPLE_BOUND_KINDS else None
     if timed_out_at is not None and samples_per_keyframe is not None and samples_per_keyframe >= timed_out_at:
         return f"exceeded the {budget_s:g} s budget at {timed_out_at} samples/keyframe"
     return None

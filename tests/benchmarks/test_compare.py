@@ -69,3 +69,6 @@ def test_substep_runs_are_predicted_from_cheaper_ones_and_timeouts_carry_to_dens
     assert run._skip_reason("swept", {}, history, "g", 1, budget_s=60.0) is None
     assert "at 2 samples/keyframe" in run._skip_reason("swept", {}, history, "g", 5, budget_s=60.0)
     assert run._skip_reason("swept", {}, history, "other", 5, budget_s=60.0) is None
+    ksl_history = {("g", "ksl"): 1, ("g", "check"): 1}
+    assert run._skip_reason("ksl", {}, ksl_history, "g", 10, budget_s=60.0) is None
+    assert run._skip_reason("check", {}, ksl_history, "g", 10, budget_s=60.0) is None
