@@ -204,6 +204,15 @@ def counter_reading(ksl: Dict, swept: Dict, sparse_swept: Optional[Dict]) -> str
 
 # --------------------------------------------------------------------------- plots
 
+def _save(fig, path) -> bool:
+    """Lay out, write the PNG and free the figure; True so plot functions can return it."""
+    import matplotlib.pyplot as plt
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
 def _plot_time_vs_missed(rows, path) -> bool:
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FormatStrFormatter
@@ -238,10 +247,7 @@ def _plot_time_vs_missed(rows, path) -> bool:
         ax.grid(True, alpha=0.3)
     for ax in list(axes.flat)[len(panels):]:
         ax.axis("off")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
+    return _save(fig, path)
 
 
 def _plot_events_vs_bv(rows, path) -> bool:
@@ -277,10 +283,7 @@ def _plot_events_vs_bv(rows, path) -> bool:
     ax.set_title("KSL events vs swept-volume BV tests (paper Fig. 11)", fontsize=10)
     ax.legend(fontsize=7)
     ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
+    return _save(fig, path)
 
 
 def _plot_time_vs_samples(rows, path) -> bool:
@@ -307,10 +310,7 @@ def _plot_time_vs_samples(rows, path) -> bool:
     ax.set_title("Time vs samples per keyframe (paper Fig. 10)", fontsize=10)
     ax.legend(fontsize=7)
     ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return True
+    return _save(fig, path)
 
 
 # --------------------------------------------------------------------------- the page
