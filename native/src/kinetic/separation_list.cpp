@@ -194,7 +194,6 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     }
     e.overlapping_leaf = overlapping_leaf;
     e.alive = true;
-    ++live_entries_;
     list.index.emplace(pair_key(a, b), id);
     auto& na = node_entries(list.mesh_a, a);
     e.slot_a = static_cast<int32_t>(na.size());
@@ -236,7 +235,6 @@ void KineticSeparationLists::remove_entry(int32_t id) {
     unlink(list.mesh_a, e.a, e.slot_a);
     unlink(list.mesh_b, e.b, e.slot_b);
     e.alive = false;
-    --live_entries_;
     free_entries_.push_back(id);
 }
 
@@ -356,8 +354,7 @@ void KineticSeparationLists::process_entry_event(int32_t id, double t) {
     schedule(id, t);  // the overlap bound fired early: look again from here
 }
 
-void KineticSeparationLists::node_changed(int32_t mesh, int32_t node, double t) {
-    (void)t;
+void KineticSeparationLists::node_changed(int32_t mesh, int32_t node) {
     ++counters_.bv_change_events;
     const auto enqueue = [&](int32_t id) {
         if (reschedule_stamp_[id] != stamp_) {
@@ -391,7 +388,7 @@ void KineticSeparationLists::process_tree_event(int64_t handle, double t) {
     bool changed = tree.repick(node, slot, t);
     queue_.schedule(handle, tree.certificate_failure(node, slot, t, t_end_));
     while (changed) {
-        node_changed(mesh, node, t);
+        node_changed(mesh, node);
         node = tree.topology().parent[node];
         if (node < 0) break;
         changed = tree.repick(node, slot, t);

@@ -66,8 +66,6 @@ public:
     ///        sample and the merged flightplan; 0 when nothing merged.
     double merge_deviation() const { return merge_deviation_; }
 
-    /// @brief Total number of breakpoints kept (after merging).
-    int64_t breakpoint_count() const { return static_cast<int64_t>(key_times_.size()); }
 
 private:
     int64_t search_segment(int32_t v, double t) const;

@@ -24,10 +24,8 @@ public:
     double top_time() const {
         return heap_.empty() ? std::numeric_limits<double>::infinity() : time_[heap_[0]];
     }
-    int64_t top_handle() const { return heap_[0]; }
     /// @brief Removes and returns the earliest event's handle.
     int64_t pop();
-    size_t size() const { return heap_.size(); }
 
 private:
     bool before(int64_t a, int64_t b) const {

@@ -32,9 +32,6 @@ public:
     /// @brief Processes every event up to t_end (time codes).
     void run(const ProgressCallback& progress);
 
-    /// @brief Number of live list entries (for memory measurements).
-    size_t entry_count() const { return live_entries_; }
-
 private:
     struct List {
         int32_t mesh_a;
@@ -78,7 +75,7 @@ private:
     // Events
     void process_tree_event(int64_t handle, double t);
     void process_entry_event(int32_t id, double t);
-    void node_changed(int32_t mesh, int32_t node, double t);
+    void node_changed(int32_t mesh, int32_t node);
 
     std::vector<NodeRef>& node_entries(int32_t mesh, int32_t node) { return node_entries_[mesh][node]; }
 
@@ -95,7 +92,6 @@ private:
     std::vector<List> lists_;
     std::vector<Entry> entries_;
     std::vector<int32_t> free_entries_;
-    size_t live_entries_ = 0;
     std::vector<double> margin_;  // per list: thickness + slack of both trees + padding
     EventQueue queue_;
     std::vector<int32_t> pending_reschedule_;
