@@ -64,6 +64,11 @@ int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
                              (std::abs(adybdz) + std::abs(adzbdy)) * std::abs(cdx);
     const double bound = ORIENT3D_FILTER_BOUND * permanent;
     if (det > bound || -det > bound) return sign_of(det);
+    // Four points sharing one coordinate lie in an axis plane: the determinant
+    // is exactly zero (flat cloth at rest hits this for every pair).
+    for (int k = 0; k < 3; ++k) {
+        if (a[k] == d[k] && b[k] == d[k] && c[k] == d[k]) return 0;
+    }
     // det3(a-d, b-d, c-d) = [a,b,c] - [d,b,c] - [a,d,c] - [a,b,d] (multilinearity).
     expansion::ExactSum sum;
     add_det3(sum, a, b, c, 1.0);
