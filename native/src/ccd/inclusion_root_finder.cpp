@@ -85,12 +85,14 @@ public:
     /// Outcome of evaluating one box.
     enum class Verdict { Excluded, Inside, Straddles };
 
-    /// Evaluates the 8 corners; on Straddles, fills how much F varies along
-    /// each parameter (for choosing the split).
-    /// `variation` reports how much each parameter (t, u, v) moves the
-    /// constraint that most nearly excludes the box; `variation_all` how much
-    /// it moves any component of the distance function.
-    Verdict evaluate(const ParameterBox& box, double variation[3], double variation_all[3]) const {
+    /// Which parameter-variation measure the split rule asks for.
+    enum class SplitRule { Targeted, Overall };
+
+    /// Evaluates the 8 corners; on Straddles, fills `variation` with how much
+    /// each parameter (t, u, v) moves F: for the Targeted rule, the
+    /// constraint that most nearly excludes the box; for the Overall rule,
+    /// any component of the distance function.
+    Verdict evaluate(const ParameterBox& box, SplitRule rule, double variation[3]) const {
         const TermsAtTime at[2] = {terms_at(box.t_lo), terms_at(box.t_hi)};
         const double us[2] = {box.u_lo, box.u_hi};
         const double vs[2] = {box.v_lo, box.v_hi};
@@ -122,6 +124,19 @@ public:
         double projected[MAX_DIRECTIONS][8];
         if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
 
+        variation[0] = variation[1] = variation[2] = 0.0;
+        if (rule == SplitRule::Overall) {
+            for (int a = 0; a < 2; ++a) {
+                for (int b = 0; b < 2; ++b) {
+                    for (int k = 0; k < 3; ++k) {
+                        variation[0] = std::max(variation[0], std::abs(corner[1][a][b][k] - corner[0][a][b][k]));
+                        variation[1] = std::max(variation[1], std::abs(corner[a][1][b][k] - corner[a][0][b][k]));
+                        variation[2] = std::max(variation[2], std::abs(corner[a][b][1][k] - corner[a][b][0][k]));
+                    }
+                }
+            }
+            return Verdict::Straddles;
+        }
         // Refine where it can pay: pick the constraint (axis or direction)
         // whose hull lies most outside its bound, then report how much each
         // parameter moves that constraint.
@@ -149,15 +164,8 @@ public:
             return best_constraint < 3 ? corner[it][iu][iv][best_constraint]
                                        : projected[best_constraint - 3][it * 4 + iu * 2 + iv];
         };
-        variation[0] = variation[1] = variation[2] = 0.0;
-        variation_all[0] = variation_all[1] = variation_all[2] = 0.0;
         for (int a = 0; a < 2; ++a) {
             for (int b = 0; b < 2; ++b) {
-                for (int k = 0; k < 3; ++k) {
-                    variation_all[0] = std::max(variation_all[0], std::abs(corner[1][a][b][k] - corner[0][a][b][k]));
-                    variation_all[1] = std::max(variation_all[1], std::abs(corner[a][1][b][k] - corner[a][0][b][k]));
-                    variation_all[2] = std::max(variation_all[2], std::abs(corner[a][b][1][k] - corner[a][b][0][k]));
-                }
                 variation[0] = std::max(variation[0], std::abs(value(1, a, b) - value(0, a, b)));
                 variation[1] = std::max(variation[1], std::abs(value(a, 1, b) - value(a, 0, b)));
                 variation[2] = std::max(variation[2], std::abs(value(a, b, 1) - value(a, b, 0)));
@@ -275,14 +283,15 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         ++iterations;
         if (search.outside_domain(box)) continue;
 
-        double targeted[3], overall[3];
-        const auto verdict = search.evaluate(box, targeted, overall);
         // Interleave the two split rules by depth (two targeted splits, then
         // one overall): the targeted rule alone can stall on a parameter that
         // never excludes (neighbouring cloth triangles hit the iteration cap),
         // the overall rule alone blows up with thickness; interleaved, each
         // keeps the other making progress.
-        const double* variation = (box.depth % 3 != 2) ? targeted : overall;
+        const RootSearch::SplitRule rule =
+            (box.depth % 3 != 2) ? RootSearch::SplitRule::Targeted : RootSearch::SplitRule::Overall;
+        double variation[3];
+        const auto verdict = search.evaluate(box, rule, variation);
         if (verdict == RootSearch::Verdict::Excluded) continue;
         if (verdict == RootSearch::Verdict::Inside) {
             // Already within thickness at the corners of time t_lo.
