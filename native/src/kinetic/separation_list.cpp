@@ -281,20 +281,9 @@ void KineticSeparationLists::narrow_phase(Entry& e, double t) {
         e.tested_until = kInfinity;  // nothing moves any more: no new contact can start
         return;
     }
-    // Triangles can only touch while their leaf boxes overlap, so the CCD
-    // covers [t, separation) of this step; the entry's event at tested_until
-    // resumes from there if the leaves still overlap. Windows tested before
-    // cover everything from their start up to tested_until, and time only
-    // moves forward, so that part is not tested twice.
-    const double separates = separation_time(list, e.a, e.b, t);
-    e.separation = separates;
-    e.separation_from = t;
-    const double window_begin = std::max({step.begin, t, e.tested_until});
-    const double window_end = separates > window_begin ? std::min(step.end, separates) : step.end;
-    if (window_end <= window_begin) return;
-    e.tested_until = window_end;
-    if (tester_.test_step(list.mesh_a, tri_a, list.mesh_b, tri_b, PairStep{window_begin, window_end}))
-        e.inert = true;
+    if (step.end <= e.tested_until) return;
+    e.tested_until = step.end;
+    if (tester_.test_step(list.mesh_a, tri_a, list.mesh_b, tri_b, step)) e.inert = true;
 }
 
 void KineticSeparationLists::schedule(int32_t id, double t) {
@@ -303,7 +292,7 @@ void KineticSeparationLists::schedule(int32_t id, double t) {
     double when = kInfinity;
     if (e.overlapping_leaf) {
         if (!e.inert) {
-            when = e.separation_from == t ? e.separation : separation_time(list, e.a, e.b, t);
+            when = separation_time(list, e.a, e.b, t);
             if (e.tested_until < t_end_) when = std::min(when, e.tested_until);
         }
     } else {
@@ -368,7 +357,6 @@ void KineticSeparationLists::process_entry_event(int32_t id, double t) {
 void KineticSeparationLists::node_changed(int32_t mesh, int32_t node) {
     ++counters_.bv_change_events;
     const auto enqueue = [&](int32_t id) {
-        entries_[id].separation_from = -kInfinity;  // its boxes changed: the cached time is stale
         if (reschedule_stamp_[id] != stamp_) {
             reschedule_stamp_[id] = stamp_;
             pending_reschedule_.push_back(id);

@@ -45,9 +45,7 @@ private:
         int32_t fa = -1, fb = -1;    // BVTT father, -1 for the root pair
         bool overlapping_leaf = false;
         bool inert = false;          // overlapping leaf whose triangle pair is settled
-        double tested_until = -1e300;  // end of the last window the narrow phase covered (time codes)
-        double separation = 0.0;       // leaves' separation time as computed at separation_from
-        double separation_from = -1e300;
+        double tested_until = -1e300;  // end of the last flightplan step the narrow phase covered
         int32_t slot_a = -1, slot_b = -1;  // positions in the node entry lists
         bool alive = false;
     };
