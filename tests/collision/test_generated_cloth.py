@@ -16,6 +16,8 @@ from usdksl.collision import find_contacts
 from usdksl.loader import load_shot
 from usdksl.scope import plan_shot
 
+from .test_methods_agree import contacts_by_pair
+
 REPO_ROOT = Path(__file__).resolve().parents[2]
 TOLERANCE = 1e-6
 
@@ -32,9 +34,7 @@ def generated_shot(request, tmp_path_factory):
 
 
 def first_contacts(shot, plan, method):
-    result = find_contacts(shot.meshes, plan.pairs, method=method, tolerance=TOLERANCE)
-    return {(int(ma), int(ta), int(mb), int(tb)): float(t)
-            for t, ma, ta, mb, tb in zip(result.time, result.mesh_a, result.tri_a, result.mesh_b, result.tri_b)}
+    return contacts_by_pair(find_contacts(shot.meshes, plan.pairs, method=method, tolerance=TOLERANCE))
 
 
 @pytest.mark.parametrize("method", ["ksl", "swept"])
