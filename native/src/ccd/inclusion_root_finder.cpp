@@ -22,6 +22,9 @@ namespace {
 struct ParameterBox {
     double t_lo, t_hi, u_lo, u_hi, v_lo, v_hi;
     int32_t depth;
+    /// Set on a box clipped to within tolerance: it answers if its own
+    /// corners do not exclude it.
+    bool final_check = false;
 };
 
 /// Heap order: earliest t_lo on top; among equal t_lo the deepest box, so the
@@ -39,6 +42,15 @@ struct PairIndices {
 };
 constexpr PairIndices VERTEX_FACE_PAIRS{0, 1, 2, 1, 3, 1};
 constexpr PairIndices EDGE_EDGE_PAIRS{0, 2, 0, 1, 3, 2};
+
+/// Distance-function values at the 8 corners of the last evaluated box:
+/// per world axis, and projected on each separating direction (corner index
+/// it*4 + iu*2 + iv).
+struct BoxImage {
+    static constexpr int MAX_DIRECTIONS = 4;
+    double corner[2][2][2][3];
+    double projected[MAX_DIRECTIONS][8];
+};
 
 /// W, E1, E2 at one time, computed in the exact operation order the error
 /// bound CCD_CORNER_ERROR_FACTOR was derived for.
@@ -92,11 +104,11 @@ public:
     /// each parameter (t, u, v) moves F: for the Targeted rule, the
     /// constraint that most nearly excludes the box; for the Overall rule,
     /// any component of the distance function.
-    Verdict evaluate(const ParameterBox& box, SplitRule rule, double variation[3]) const {
+    Verdict evaluate(const ParameterBox& box, SplitRule rule, double variation[3], BoxImage& image) const {
         const TermsAtTime at[2] = {terms_at(box.t_lo), terms_at(box.t_hi)};
         const double us[2] = {box.u_lo, box.u_hi};
         const double vs[2] = {box.v_lo, box.v_hi};
-        double corner[2][2][2][3];
+        auto& corner = image.corner;
         bool inside = true;
         double axis_lo[3], axis_hi[3];
         for (int k = 0; k < 3; ++k) {
@@ -121,7 +133,7 @@ public:
             axis_hi[k] = hi;
         }
         if (inside) return Verdict::Inside;
-        double projected[MAX_DIRECTIONS][8];
+        auto& projected = image.projected;
         if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
 
         variation[0] = variation[1] = variation[2] = 0.0;
@@ -233,12 +245,87 @@ public:
         return is_vertex_face_ && box.u_lo + box.v_lo > 1.0;
     }
 
+    /// Narrows `box` to the part of each parameter range where a root can
+    /// still lie, from the corner values of the last evaluate() (Straddles).
+    /// For one parameter, F restricted to each of the 4 box edges along it is
+    /// linear (F is multilinear), and at any value of that parameter F ranges
+    /// between the 4 edge values (a multilinear function takes its extremes
+    /// at the corners of the remaining 2-D box). So a root needs
+    /// min_e l_e <= bound and max_e l_e >= -bound, per axis and direction;
+    /// the earliest and latest parameter values meeting both bound the root.
+    /// Corner rounding errors are already inside the bounds, and the cut
+    /// points are rounded outward. Returns false when no root can remain.
+    bool clip(ParameterBox& box, const BoxImage& image) const {
+        double lower[3] = {0.0, 0.0, 0.0};
+        double upper[3] = {1.0, 1.0, 1.0};
+        for (int k = 0; k < 3; ++k) {
+            double values[8];
+            for (int c = 0; c < 8; ++c) values[c] = image.corner[c >> 2][(c >> 1) & 1][c & 1][k];
+            clip_constraint(values, bound_[k], lower, upper);
+        }
+        for (int i = 0; i < direction_count_; ++i)
+            clip_constraint(image.projected[i], directions_[i].bound, lower, upper);
+        double* ends[3][2] = {{&box.t_lo, &box.t_hi}, {&box.u_lo, &box.u_hi}, {&box.v_lo, &box.v_hi}};
+        for (int p = 0; p < 3; ++p) {
+            if (lower[p] > upper[p]) return false;
+            const double lo = *ends[p][0], hi = *ends[p][1], width = hi - lo;
+            double new_lo = lo, new_hi = hi;
+            if (lower[p] > 0.0)
+                new_lo = std::max(lo, std::nextafter(lo + width * (lower[p] * CLIP_FRACTION_SHRINK), -INFINITY));
+            if (upper[p] < 1.0)
+                new_hi = std::min(hi, std::nextafter(lo + width * std::min(1.0, upper[p] * CLIP_FRACTION_GROW), INFINITY));
+            if (new_lo > new_hi) return false;
+            *ends[p][0] = new_lo;
+            *ends[p][1] = new_hi;
+        }
+        if (is_vertex_face_) {
+            box.u_hi = std::min(box.u_hi, std::max(box.u_lo, std::nextafter(1.0 - box.v_lo, INFINITY)));
+            box.v_hi = std::min(box.v_hi, std::max(box.v_lo, std::nextafter(1.0 - box.u_lo, INFINITY)));
+        }
+        return true;
+    }
+
 private:
+    /// Intersects [lower[p], upper[p]] (fractions of the box along parameter
+    /// p) with the range where constraint |g| <= bound can hold, g given by
+    /// its 8 corner values (index it*4 + iu*2 + iv).
+    static void clip_constraint(const double g[8], double bound, double lower[3], double upper[3]) {
+        for (int c = 0; c < 8; ++c)
+            if (!std::isfinite(g[c])) return;
+        for (int p = 0; p < 3; ++p) {
+            const int bit = 4 >> p;
+            // Earliest / latest fraction where some edge is <= bound, and
+            // where some edge is >= -bound.
+            double first_below = INFINITY, last_below = -INFINITY;
+            double first_above = INFINITY, last_above = -INFINITY;
+            for (int c = 0; c < 8; ++c) {
+                if (c & bit) continue;
+                const double a = g[c], b = g[c | bit];
+                if (a <= bound) {
+                    first_below = 0.0;
+                    last_below = std::max(last_below, b <= bound ? 1.0 : (bound - a) / (b - a));
+                } else if (b <= bound) {
+                    first_below = std::min(first_below, (a - bound) / (a - b));
+                    last_below = 1.0;
+                }
+                if (a >= -bound) {
+                    first_above = 0.0;
+                    last_above = std::max(last_above, b >= -bound ? 1.0 : (a + bound) / (a - b));
+                } else if (b >= -bound) {
+                    first_above = std::min(first_above, (-bound - a) / (b - a));
+                    last_above = 1.0;
+                }
+            }
+            lower[p] = std::max({lower[p], first_below, first_above});
+            upper[p] = std::min({upper[p], last_below, last_above});
+        }
+    }
+
     struct Direction {
         double n[3];
         double bound;
     };
-    static constexpr int MAX_DIRECTIONS = 4;
+    static constexpr int MAX_DIRECTIONS = BoxImage::MAX_DIRECTIONS;
     Direction directions_[MAX_DIRECTIONS];
     int direction_count_ = 0;
     double start_[4][3];
@@ -264,6 +351,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
     heap.clear();
     heap.push_back(ParameterBox{0.0, t_max, 0.0, 1.0, 0.0, 1.0, 0});
     const LaterFirst later_first;
+    BoxImage image;
     int64_t iterations = 0;
 
     while (!heap.empty()) {
@@ -291,7 +379,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         const RootSearch::SplitRule rule =
             (box.depth % 3 != 2) ? RootSearch::SplitRule::Targeted : RootSearch::SplitRule::Overall;
         double variation[3];
-        const auto verdict = search.evaluate(box, rule, variation);
+        const auto verdict = search.evaluate(box, rule, variation, image);
         if (verdict == RootSearch::Verdict::Excluded) continue;
         if (verdict == RootSearch::Verdict::Inside) {
             // Already within thickness at the corners of time t_lo.
@@ -301,7 +389,21 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             return result;
         }
 
-        const double widths[3] = {box.t_hi - box.t_lo, box.u_hi - box.u_lo, box.v_hi - box.v_lo};
+        if (box.final_check) {
+            result.hit = true;
+            result.toi = box.t_lo;
+            result.reached_tolerance = box.t_hi - box.t_lo;
+            return result;
+        }
+
+        const double old_widths[3] = {box.t_hi - box.t_lo, box.u_hi - box.u_lo, box.v_hi - box.v_lo};
+        ParameterBox clipped = box;
+        if (!search.clip(clipped, image)) continue;
+        const double widths[3] = {clipped.t_hi - clipped.t_lo, clipped.u_hi - clipped.u_lo,
+                                  clipped.v_hi - clipped.v_lo};
+        // F is linear along each parameter, so its variation shrinks with the width.
+        for (int d = 0; d < 3; ++d)
+            if (old_widths[d] > 0.0) variation[d] *= widths[d] / old_widths[d];
         int split_axis = -1;
         double best_variation = -1.0;
         for (int d = 0; d < 3; ++d) {
@@ -321,24 +423,46 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             }
         }
         if (split_axis < 0) {
+            // A clipped box is evaluated once more before it may answer (its
+            // own corners may exclude it), and then only if still earliest.
+            const bool was_clipped = clipped.t_lo != box.t_lo || clipped.t_hi != box.t_hi ||
+                                     clipped.u_lo != box.u_lo || clipped.u_hi != box.u_hi ||
+                                     clipped.v_lo != box.v_lo || clipped.v_hi != box.v_hi;
+            if (was_clipped) {
+                clipped.final_check = true;
+                heap.push_back(clipped);
+                std::push_heap(heap.begin(), heap.end(), later_first);
+                continue;
+            }
             result.hit = true;
-            result.toi = box.t_lo;
+            result.toi = clipped.t_lo;
             result.reached_tolerance = widths[0];
             return result;
         }
 
-        ParameterBox low = box, high = box;
+        {
+            double shrink = 1.0;
+            for (int d = 0; d < 3; ++d)
+                if (old_widths[d] > 0.0) shrink *= widths[d] / old_widths[d];
+            if (shrink < 0.5) {
+                heap.push_back(clipped);
+                std::push_heap(heap.begin(), heap.end(), later_first);
+                continue;
+            }
+        }
+        const ParameterBox& box_to_split = clipped;
+        ParameterBox low = box_to_split, high = box_to_split;
         low.depth = high.depth = box.depth + 1;
         if (split_axis == 0) {
-            const double mid = 0.5 * (box.t_lo + box.t_hi);
+            const double mid = 0.5 * (box_to_split.t_lo + box_to_split.t_hi);
             low.t_hi = mid;
             high.t_lo = mid;
         } else if (split_axis == 1) {
-            const double mid = 0.5 * (box.u_lo + box.u_hi);
+            const double mid = 0.5 * (box_to_split.u_lo + box_to_split.u_hi);
             low.u_hi = mid;
             high.u_lo = mid;
         } else {
-            const double mid = 0.5 * (box.v_lo + box.v_hi);
+            const double mid = 0.5 * (box_to_split.v_lo + box_to_split.v_hi);
             low.v_hi = mid;
             high.v_lo = mid;
         }

@@ -28,6 +28,14 @@ constexpr double CCD_BOUND_INFLATION = 1.0 + 8.0 * DOUBLE_UNIT_ROUNDOFF;
 ///        closest-point computations; errs toward reporting contact.
 constexpr double STATIC_DISTANCE_RELATIVE_SLACK = 1e-12;
 
+/// @brief Factors applied to a clipped box's cut points (fractions of the
+///        box along one parameter) before they become parameter values: the
+///        lower cut moves down and the upper cut up by 16 unit roundoffs,
+///        more than the rounding of the quotient that computed them, so a
+///        clip never cuts off a root.
+constexpr double CLIP_FRACTION_SHRINK = 1.0 - 16.0 * DOUBLE_UNIT_ROUNDOFF;
+constexpr double CLIP_FRACTION_GROW = 1.0 + 16.0 * DOUBLE_UNIT_ROUNDOFF;
+
 /// @brief Smallest tolerance (interval fraction) the root finder accepts;
 ///        finer requests are raised to it so refinement always terminates.
 constexpr double CCD_MIN_TOLERANCE = 1.0 / 4503599627370496.0; // 2^-52
