@@ -440,29 +440,28 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             return result;
         }
 
-        {
-            double shrink = 1.0;
-            for (int d = 0; d < 3; ++d)
-                if (old_widths[d] > 0.0) shrink *= widths[d] / old_widths[d];
-            if (shrink < 0.5) {
-                heap.push_back(clipped);
-                std::push_heap(heap.begin(), heap.end(), later_first);
-                continue;
-            }
+        // A clip that removed most of the box is likely to cut again: worth
+        // one more evaluation before committing to a split.
+        double kept_volume = 1.0;
+        for (int d = 0; d < 3; ++d)
+            if (old_widths[d] > 0.0) kept_volume *= widths[d] / old_widths[d];
+        if (kept_volume < CLIP_AGAIN_BELOW_KEPT_VOLUME) {
+            heap.push_back(clipped);
+            std::push_heap(heap.begin(), heap.end(), later_first);
+            continue;
         }
-        const ParameterBox& box_to_split = clipped;
-        ParameterBox low = box_to_split, high = box_to_split;
+        ParameterBox low = clipped, high = clipped;
         low.depth = high.depth = box.depth + 1;
         if (split_axis == 0) {
-            const double mid = 0.5 * (box_to_split.t_lo + box_to_split.t_hi);
+            const double mid = 0.5 * (clipped.t_lo + clipped.t_hi);
             low.t_hi = mid;
             high.t_lo = mid;
         } else if (split_axis == 1) {
-            const double mid = 0.5 * (box_to_split.u_lo + box_to_split.u_hi);
+            const double mid = 0.5 * (clipped.u_lo + clipped.u_hi);
             low.u_hi = mid;
             high.u_lo = mid;
         } else {
-            const double mid = 0.5 * (box_to_split.v_lo + box_to_split.v_hi);
+            const double mid = 0.5 * (clipped.v_lo + clipped.v_hi);
             low.v_hi = mid;
             high.v_lo = mid;
         }

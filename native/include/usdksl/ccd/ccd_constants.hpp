@@ -36,6 +36,11 @@ constexpr double STATIC_DISTANCE_RELATIVE_SLACK = 1e-12;
 constexpr double CLIP_FRACTION_SHRINK = 1.0 - 16.0 * DOUBLE_UNIT_ROUNDOFF;
 constexpr double CLIP_FRACTION_GROW = 1.0 + 16.0 * DOUBLE_UNIT_ROUNDOFF;
 
+/// @brief When clipping keeps less than this fraction of a box's volume in
+///        (t,u,v), the clipped box is evaluated again instead of split
+///        (dimensionless; a speed heuristic, not an accuracy setting).
+constexpr double CLIP_AGAIN_BELOW_KEPT_VOLUME = 0.5;
+
 /// @brief Smallest tolerance (interval fraction) the root finder accepts;
 ///        finer requests are raised to it so refinement always terminates.
 constexpr double CCD_MIN_TOLERANCE = 1.0 / 4503599627370496.0; // 2^-52

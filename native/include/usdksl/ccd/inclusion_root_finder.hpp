@@ -31,11 +31,12 @@ struct MultilinearDistance {
 
 /// @brief Earliest time in [0, t_max) (fraction of the step) at which the
 ///        distance function may come within settings.thickness (per axis,
-///        hence never missing a Euclidean contact), found by subdividing the
-///        (t,u,v) box earliest-time first until the box is narrower than
-///        settings.tolerance on every parameter. Conservative: boxes are only
-///        discarded when their corner hull, inflated by a rounding-error bound
-///        derived from the input magnitude, misses the thickness cube.
+///        hence never missing a Euclidean contact), found by clipping and
+///        subdividing the (t,u,v) box earliest-time first until the box is
+///        narrower than settings.tolerance on every parameter. Conservative:
+///        boxes are only discarded, and only clipped, where their corner
+///        values, inflated by a rounding-error bound derived from the input
+///        magnitude, rule out the thickness cube or a separating slab.
 CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,
                              double t_max);
 
