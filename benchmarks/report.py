@@ -96,12 +96,22 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
                 return row, ra, rb
         return None
 
+    def largest_with(scene: str, a: str, b: str) -> Optional[tuple]:
+        """Densest sampling of the largest shot of `scene` on which both methods ran."""
+        sized = sorted(((members[0]["shot"].get("size") or 0, members) for members in groups.values()
+                        if members[0]["shot"]["scene"] == scene), key=lambda item: -item[0])
+        for _, members in sized:
+            found = densest_pair(members, a, b)
+            if found:
+                return members, found
+        return None
+
     for scene, target in (("tablecloth", 20.0), ("swirl", 2.0)):
-        members = largest(scene)
-        found = densest_pair(members, "ksl", "swept") if members else None
-        if not found:
+        located = largest_with(scene, "ksl", "swept")
+        if not located:
             lines.append(f"- KSL vs swept on {scene}: not measured in this run.")
             continue
+        members, found = located
         row, ksl, swept = found
         ratio = swept["wall_s"] / ksl["wall_s"]
         cpu_ratio = _cpu(swept) / _cpu(ksl)
@@ -315,6 +325,39 @@ def _plot_time_vs_samples(rows, path) -> bool:
 
 # --------------------------------------------------------------------------- the page
 
+def grid_table(rows: Sequence[Dict]) -> List[str]:
+    """One line per shot size, one column per sampling: KSL CPU seconds and swept/KSL CPU ratio, or why not."""
+    groups = _groups(rows)
+    samplings = sorted({r["shot"].get("samples_per_keyframe") or 0 for r in rows} - {0})
+    if not samplings:
+        return []
+    lines = ["| shot | triangles | " + " | ".join(f"{s} spk" for s in samplings) + " |",
+             "|---|---|" + "---|" * len(samplings)]
+    ordered = sorted(groups.items(), key=lambda item: (item[1][0]["shot"]["scene"], item[1][0]["shot"].get("size") or 0))
+    for key, members in ordered:
+        cells = []
+        for spk in samplings:
+            row = next((r for r in members if r["shot"].get("samples_per_keyframe") == spk), None)
+            if row is None:
+                cells.append("not run")
+                continue
+            ksl, swept = _ok(row, "ksl"), _ok(row, "swept")
+            if not ksl:
+                reason = row["methods"].get("ksl", {}).get("reason", "not run")
+                cells.append(f"KSL skipped ({reason})")
+                continue
+            cell = f"KSL {_cpu(ksl):.3g} s"
+            if swept:
+                cell += f", swept/KSL **{_cpu(swept) / _cpu(ksl):.2f}x**"
+            else:
+                record = row["methods"].get("swept")
+                cell += f", swept {'skipped: ' + record.get('reason', '') if record else 'not run'}"
+            cells.append(cell)
+        triangles = members[0]["shot"]["triangles"]
+        lines.append(f"| {key} | {triangles} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_dir: str,
            command: str = "", machine: str = "") -> str:
     lines = ["# usdksl: what accuracy costs in time", ""]
@@ -341,6 +384,11 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
     lines += ["## Headlines", "",
               "Verdicts use CPU time where measured (wall time is shown too; see the noise note above).", ""]
     lines += headlines(rows) + [""]
+    table = grid_table(rows)
+    if table:
+        lines += ["## KSL against swept across the grid", "",
+                  "CPU seconds of KSL per shot and sampling (samples per keyframe, spk), and swept's CPU time as a "
+                  "multiple of it; details and every other method under 'Per shot'.", ""] + table + [""]
     lines += ["## Plots", ""]
     captions = {"time_vs_missed.png": "Time against missed contacts (every sampling of each shot where KSL ran)",
                 "events_vs_bv_tests.png": "KSL events vs swept BV tests per interval over mesh size (Fig. 11)",

@@ -58,3 +58,27 @@ def test_rows_of_the_same_shot_merge_and_a_run_replaces_a_skip(suite_rows):
     assert methods["swept"]["status"] == "ok" and methods["swept"]["comparison"]["missed"] == 0
     assert methods["discrete"]["status"] == "ok"  # a later skip never hides a method that ran
     assert list(methods)[0] == "read" and "ksl" in methods
+
+
+def test_swept_headline_uses_the_largest_shot_where_swept_ran():
+    rows = [
+        {"shot": shot("swirl", 4000, 10), "methods": {"ksl": record(2.0), "swept": record(5.0)}},
+        {"shot": shot("swirl", 33000, 1), "methods": {"ksl": record(40.0), "swept": {
+            "label": "swept", "status": "skipped", "reason": "exceeded the 900 s budget"}}},
+    ]
+    text = "\n".join(report.headlines(rows))
+    assert "swirl 4000, 10 samples/keyframe" in text and "swept/KSL time **2.50x**" in text
+    assert "target >= 2x: met" in text
+
+
+def test_grid_table_has_a_cell_per_sampling_with_ratio_or_reason():
+    rows = [
+        {"shot": shot("swirl", 4000, 1), "methods": {"ksl": record(2.0), "swept": record(1.0)}},
+        {"shot": shot("swirl", 4000, 10), "methods": {"ksl": record(2.0), "swept": record(8.0)}},
+        {"shot": shot("swirl", 33000, 1), "methods": {"ksl": record(40.0), "swept": {
+            "label": "swept", "status": "skipped", "reason": "exceeded the 900 s budget"}}},
+    ]
+    lines = report.grid_table(rows)
+    assert lines[0] == "| shot | triangles | 1 spk | 10 spk |"
+    assert "| swirl 4000 | 8000 | KSL 2 s, swept/KSL **0.50x** | KSL 2 s, swept/KSL **4.00x** |" in lines
+    assert "| swirl 33000 | 66000 | KSL 40 s, swept skipped: exceeded the 900 s budget | not run |" in lines
