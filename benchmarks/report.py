@@ -84,10 +84,13 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
     lines = []
     groups = _groups(rows)
 
+    def largest_first(scene: str) -> List[List[Dict]]:
+        """The shot groups of `scene`, largest size first."""
+        return sorted((members for members in groups.values() if members[0]["shot"]["scene"] == scene),
+                      key=lambda members: -(members[0]["shot"].get("size") or 0))
+
     def largest(scene: str) -> Optional[List[Dict]]:
-        sized = [(members[0]["shot"].get("size") or 0, members) for key, members in groups.items()
-                 if members[0]["shot"]["scene"] == scene]
-        return max(sized, key=lambda item: item[0])[1] if sized else None
+        return next(iter(largest_first(scene)), None)
 
     def densest_pair(members, a, b) -> Optional[tuple]:
         for row in reversed(members):
@@ -98,9 +101,7 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
 
     def largest_with(scene: str, a: str, b: str) -> Optional[tuple]:
         """Densest sampling of the largest shot of `scene` on which both methods ran."""
-        sized = sorted(((members[0]["shot"].get("size") or 0, members) for members in groups.values()
-                        if members[0]["shot"]["scene"] == scene), key=lambda item: -item[0])
-        for _, members in sized:
+        for members in largest_first(scene):
             found = densest_pair(members, a, b)
             if found:
                 return members, found

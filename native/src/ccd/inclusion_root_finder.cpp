@@ -401,9 +401,13 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         if (!search.clip(clipped, image)) continue;
         const double widths[3] = {clipped.t_hi - clipped.t_lo, clipped.u_hi - clipped.u_lo,
                                   clipped.v_hi - clipped.v_lo};
-        // F is linear along each parameter, so its variation shrinks with the width.
-        for (int d = 0; d < 3; ++d)
-            if (old_widths[d] > 0.0) variation[d] *= widths[d] / old_widths[d];
+        // Fraction of each parameter range the clip kept. F is linear along
+        // each parameter, so its variation shrinks by the same fraction.
+        double kept[3] = {1.0, 1.0, 1.0};
+        for (int d = 0; d < 3; ++d) {
+            if (old_widths[d] > 0.0) kept[d] = widths[d] / old_widths[d];
+            variation[d] *= kept[d];
+        }
         int split_axis = -1;
         double best_variation = -1.0;
         for (int d = 0; d < 3; ++d) {
@@ -442,10 +446,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
 
         // A clip that removed most of the box is likely to cut again: worth
         // one more evaluation before committing to a split.
-        double kept_volume = 1.0;
-        for (int d = 0; d < 3; ++d)
-            if (old_widths[d] > 0.0) kept_volume *= widths[d] / old_widths[d];
-        if (kept_volume < CLIP_AGAIN_BELOW_KEPT_VOLUME) {
+        if (kept[0] * kept[1] * kept[2] < CLIP_AGAIN_BELOW_KEPT_VOLUME) {
             heap.push_back(clipped);
             std::push_heap(heap.begin(), heap.end(), later_first);
             continue;
