@@ -1,6 +1,11 @@
 """The accuracy/time page: benchmarks/results/REPORT.md and its PNG plots, from run.py's rows.
 
     python benchmarks/report.py RESULTS.json...   # rows written by run.py --results (runs concatenated)
+    python benchmarks/report.py benchmarks/results/bench_results.json NEW.json...   # add runs to the page
+
+Rows of one shot from several runs merge into one (see `merge_rows`); the page's own bench_results.json
+keeps every run's command and source revision, so feeding it back in extends the page without the raw
+contact files of earlier runs.
 
 Plots (matplotlib, Agg): time against missed contacts (discrete, substepped, swept, KSL), KSL events
 against swept-volume BV tests per sample interval over mesh size (paper Fig. 11), time against samples
@@ -74,6 +79,11 @@ def method_table(row: Dict) -> List[str]:
             f"| {_fmt(r['events'], 'd')} | {_fmt(r['bv_tests'], 'd')} | {_fmt(r['narrow_phase_tests'], 'd')} "
             f"| {_fmt(r.get('found'), 'd')}{unit if 'found' in r else ''} | {_fmt(r.get('missed'), 'd')} "
             f"| {_fmt(r.get('extra'), 'd')} | {_fmt(r.get('time_error_max'))} |")
+    unavailable = [(label, record["comparison_unavailable"]) for label, record in row["methods"].items()
+                   if record.get("comparison_unavailable")]
+    if unavailable:
+        lines.append("")
+        lines += [f"- {label}: not compared against KSL ({reason})" for label, reason in unavailable]
     return lines
 
 
@@ -435,28 +445,66 @@ def write_report(rows: Sequence[Dict], budget_s: float, out_dir: str, command: s
     return report_path
 
 
+def shot_key(shot: Dict) -> tuple:
+    """Which rows describe the same shot: the generated file's name (scene, size, sampling) with its
+    triangle and sample counts. Not its path: runs measured through another checkout or a removed
+    worktree name the same shot by a different path."""
+    return os.path.basename(shot["path"]), shot.get("triangles"), shot.get("samples")
+
+
+def _comparison_still_valid(record: Dict, reference: Dict) -> bool:
+    """KSL is deterministic for one build on one shot, so a comparison made against any KSL run of the
+    same build stays valid when another run's KSL record is kept."""
+    return ("comparison" in record and record.get("revision") is not None
+            and record.get("revision") == reference.get("revision"))
+
+
+def _recompare(methods: Dict[str, Dict]) -> None:
+    """Compare the merged methods against the KSL record that was kept, re-reading raw contact files
+    only where a stored comparison was made against a different build."""
+    reference = methods.get(REFERENCE)
+    if not reference or reference.get("status") != "ok":
+        for label, record in methods.items():
+            record.pop("comparison", None)
+        return
+    stale = {label: record for label, record in methods.items()
+             if label != REFERENCE and record.get("status") == "ok" and METHODS[label][0] not in ("read", "check")
+             and not _comparison_still_valid(record, reference)}
+    for label, record in stale.items():
+        record.pop("comparison", None)
+        missing = [path for path in (reference.get("contacts_file"), record.get("contacts_file"))
+                   if not path or not os.path.exists(path)]
+        if missing:
+            record["comparison_unavailable"] = f"raw contacts file missing: {missing[0]}"
+        else:
+            add_comparisons({REFERENCE: reference, label: record})
+
+
 def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
-    """Rows of the same shot file from several runs become one row: a method that ran replaces one that was
-    skipped or failed (later runs win among those that ran); comparisons against KSL are recomputed."""
-    merged: Dict[str, Dict] = {}
+    """Rows of the same shot (see `shot_key`) from several runs become one row: a method that ran replaces
+    one that was skipped or failed (later runs win among those that ran); comparisons against the kept
+    KSL record are kept when made by the same build and recomputed otherwise."""
+    merged: Dict[tuple, Dict] = {}
     for row in rows:
-        target = merged.setdefault(os.path.realpath(row["shot"]["path"]),
+        target = merged.setdefault(shot_key(row["shot"]),
                                    {"shot": row["shot"], "methods": {}, "sources": 0, "revisions": []})
         target["sources"] += 1
-        for revision in row.get("revisions", []):
+        revisions = row.get("revisions", [])
+        for revision in revisions:
             if revision not in target["revisions"]:
                 target["revisions"].append(revision)
         for label, record in row["methods"].items():
+            record = dict(record)
+            if len(revisions) == 1:
+                record.setdefault("revision", revisions[0])
             kept = target["methods"].get(label)
             if kept is None or record.get("status") == "ok" or kept.get("status") != "ok":
                 target["methods"][label] = record
     result = []
     for row in merged.values():
         ordered = {label: row["methods"][label] for label in METHODS if label in row["methods"]}
-        if row["sources"] > 1:  # methods from several runs: compare them against the KSL that was kept
-            for record in ordered.values():
-                record.pop("comparison", None)
-            add_comparisons(ordered)
+        if row["sources"] > 1:
+            _recompare(ordered)
         result.append({"shot": row["shot"], "methods": ordered, "revisions": row["revisions"]})
     return result
 

@@ -8,7 +8,7 @@ def record(cpu_s, wall_s=None, **counters):
                                  "leaves_do_not_overlap_events", "polygons_collide_events", "bv_change_events",
                                  "bv_tests", "narrow_phase_tests", "primitive_queries")}
     base.update(counters)
-    return {"status": "ok", "cpu_s": cpu_s, "wall_s": wall_s or cpu_s, "counters": base}
+    return {"status": "ok", "cpu_s": cpu_s, "wall_s": wall_s or cpu_s, "peak_mem_bytes": 2**20, "counters": base}
 
 
 def test_counter_reading_states_work_ratios_and_cost_per_query():
@@ -82,3 +82,45 @@ def test_grid_table_has_a_cell_per_sampling_with_ratio_or_reason():
     assert lines[0] == "| shot | triangles | 1 spk | 10 spk |"
     assert "| swirl 4000 | 8000 | KSL 2 s, swept/KSL **0.50x** | KSL 2 s, swept/KSL **4.00x** |" in lines
     assert "| swirl 33000 | 66000 | KSL 40 s, swept skipped: exceeded the 900 s budget | not run |" in lines
+
+
+def _run_row(path, revision, methods):
+    return {"shot": dict(shot("character", 35000, 10), path=path), "revisions": [revision], "methods": methods}
+
+
+def test_rows_merge_by_shot_name_across_checkouts_and_keep_same_build_comparisons(tmp_path):
+    """A worktree's rows name the shot by another path and their raw contact files may be gone: the rows
+    still merge, and a comparison made by the same build survives the other run's KSL record."""
+    gone = str(tmp_path / "removed-worktree" / "raw" / "x.npz")
+    quick = _run_row("/removed-worktree/samples/generated/character_35000_k11_s10.usdc", "b328df4", {
+        "ksl": dict(record(2.0), contacts_file=gone),
+        "discrete": dict(record(1.0), contacts_file=gone,
+                         comparison={"missed": 7, "found": 3, "unit": "face pairs"})})
+    grid = _run_row("samples/generated/character_35000_k11_s10.usdc", "b328df4", {
+        "ksl": dict(record(2.5), contacts_file=gone), "swept": dict(record(9.0), contacts_file=gone,
+                                                                    comparison={"missed": 0, "found": 10})})
+    merged = report.merge_rows([quick, grid])
+    assert len(merged) == 1
+    methods = merged[0]["methods"]
+    assert methods["ksl"]["cpu_s"] == 2.5  # the later run's KSL is kept
+    assert methods["discrete"]["comparison"]["missed"] == 7 and methods["swept"]["comparison"]["missed"] == 0
+
+
+def test_a_comparison_from_another_build_without_raw_files_is_marked_unavailable(tmp_path):
+    gone = str(tmp_path / "gone.npz")
+    old = _run_row("a/character_35000_k11_s10.usdc", "old1234", {
+        "ksl": dict(record(2.0), contacts_file=gone),
+        "discrete": dict(record(1.0), contacts_file=gone, comparison={"missed": 7, "found": 3})})
+    new = _run_row("b/character_35000_k11_s10.usdc", "new5678", {"ksl": dict(record(2.5), contacts_file=gone)})
+    merged = report.merge_rows([old, new])
+    discrete = merged[0]["methods"]["discrete"]
+    assert "comparison" not in discrete and "raw contacts file missing" in discrete["comparison_unavailable"]
+    assert any("discrete: not compared against KSL (raw contacts file missing" in line
+               for line in report.method_table(merged[0]))
+
+
+def test_different_shots_with_one_name_in_different_sizes_stay_apart():
+    a = _run_row("x/shot.usdc", "r", {"ksl": record(1.0)})
+    b = _run_row("y/shot.usdc", "r", {"ksl": record(1.0)})
+    b["shot"]["triangles"] += 2
+    assert len(report.merge_rows([a, b])) == 2
