@@ -23,7 +23,7 @@ from typing import Dict, List, Optional, Sequence
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from run import METHODS, REFERENCE, add_comparisons, ksl_events, ratio_rows  # noqa: E402
+from run import METHODS, REFERENCE, SCENE_SIZES, add_comparisons, ksl_events, ratio_rows  # noqa: E402
 
 ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "discrete x8")
 SUMMARY_JSON = "bench_results.json"
@@ -38,10 +38,18 @@ def _cpu(record: Dict) -> float:
     return record.get("cpu_s") or float("nan")
 
 
+def _shot_order(shot: Dict) -> tuple:
+    """Scenes in the paper's order (tablecloth, swirl, character, then any other), then size, then sampling."""
+    scenes = list(SCENE_SIZES)
+    rank = scenes.index(shot["scene"]) if shot["scene"] in scenes else len(scenes)
+    return rank, shot["scene"], shot.get("size") or 0, shot.get("samples_per_keyframe") or 0
+
+
 def _groups(rows: Sequence[Dict]) -> Dict[str, List[Dict]]:
-    """Rows of the same scene and size (differing only in samples per keyframe), in sampling order."""
+    """Rows of the same scene and size (differing only in samples per keyframe), in sampling order; groups
+    in `_shot_order`."""
     groups: Dict[str, List[Dict]] = {}
-    for row in rows:
+    for row in sorted(rows, key=lambda r: _shot_order(r["shot"])):
         shot = row["shot"]
         key = f"{shot['scene']} {shot['size']}" if shot.get("size") else shot["scene"]
         groups.setdefault(key, []).append(row)
@@ -225,50 +233,70 @@ def counter_reading(ksl: Dict, swept: Dict, sparse_swept: Optional[Dict]) -> str
 
 # --------------------------------------------------------------------------- plots
 
-def _save(fig, path) -> bool:
-    """Lay out, write the PNG and free the figure; True so plot functions can return it."""
+def _save(fig, path, layout: bool = True) -> bool:
+    """Lay out (unless the caller did), write the PNG and free the figure; True so plot functions can
+    return it."""
     import matplotlib.pyplot as plt
-    fig.tight_layout()
+    if layout:
+        fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return True
 
 
+#: Marker of each sampling (samples per keyframe) in the plots.
+SAMPLING_MARKERS = {1: "^", 2: "s", 5: "D", 10: "o"}
+
+
+def _uses_cpu(records) -> bool:
+    """CPU time when every plotted record has it (steadier on a shared machine), else wall time."""
+    return all(record.get("cpu_s") for record in records)
+
+
 def _plot_time_vs_missed(rows, path) -> bool:
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
     from matplotlib.ticker import FormatStrFormatter
     panels = [[r for r in members if _ok(r, "ksl")] for members in _groups(rows).values()]
     panels = [members for members in panels if members]
     if not panels:
         return False
-    columns = min(len(panels), 3)
+    plotted = [_ok(r, label) for members in panels for r in members for label in ACCURACY_METHODS if _ok(r, label)]
+    time_key = "cpu_s" if _uses_cpu(plotted) else "wall_s"
+    columns = min(len(panels), 4)
     lines_count = math.ceil(len(panels) / columns)
-    fig, axes = plt.subplots(lines_count, columns, figsize=(4.6 * columns, 3.8 * lines_count), squeeze=False)
+    fig, axes = plt.subplots(lines_count, columns, figsize=(4.2 * columns, 3.4 * lines_count + 0.8), squeeze=False)
     colors = {label: f"C{i}" for i, label in enumerate(ACCURACY_METHODS)}
-    markers = ["^", "s", "D", "o"]
+    methods_seen, samplings_seen = set(), set()
     for ax, members in zip(axes.flat, panels):
-        for index, row in enumerate(members):
-            spk = row["shot"].get("samples_per_keyframe") or "?"
-            marker = markers[(index - len(members)) % len(markers)]
+        for row in members:
+            spk = row["shot"].get("samples_per_keyframe")
             for label in ACCURACY_METHODS:
                 record = _ok(row, label)
-                if not record:
+                if not record or (label != REFERENCE and "comparison" not in record):
                     continue
-                missed = record.get("comparison", {}).get("missed", 0)
-                ax.scatter(record["wall_s"], missed, s=36, color=colors[label], marker=marker,
-                           label=f"{label}, {spk} spk", alpha=0.85)
+                methods_seen.add(label)
+                samplings_seen.add(spk)
+                ax.scatter(record[time_key], record.get("comparison", {}).get("missed", 0), s=36,
+                           color=colors[label], marker=SAMPLING_MARKERS.get(spk, "x"), alpha=0.85)
         ax.set_xscale("log")
         ax.xaxis.set_minor_formatter(FormatStrFormatter("%g"))
         ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.tick_params(axis="x", which="minor", labelsize=6)
-        ax.legend(fontsize=6, loc="best")
-        ax.set_xlabel("wall time (s)")
+        ax.set_xlabel("CPU time (s)" if time_key == "cpu_s" else "wall time (s)")
         ax.set_ylabel("face pairs missed vs KSL")
-        ax.set_title(f"{members[0]['shot']['scene']} {members[0]['shot'].get('size') or ''}", fontsize=9)
+        shot = members[0]["shot"]
+        ax.set_title(f"{shot['scene']} {shot.get('size') or ''} ({shot['triangles']} triangles)", fontsize=9)
         ax.grid(True, alpha=0.3)
     for ax in list(axes.flat)[len(panels):]:
         ax.axis("off")
-    return _save(fig, path)
+    handles = [Line2D([], [], color=colors[label], marker="o", linestyle="", label=label)
+               for label in ACCURACY_METHODS if label in methods_seen]
+    handles += [Line2D([], [], color="grey", marker=SAMPLING_MARKERS.get(spk, "x"), linestyle="",
+                       label=f"{spk} samples/keyframe") for spk in sorted(s for s in samplings_seen if s)]
+    fig.legend(handles=handles, loc="upper center", ncol=min(len(handles), 6), fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.7 / fig.get_figheight()))
+    return _save(fig, path, layout=False)
 
 
 def _plot_events_vs_bv(rows, path) -> bool:
@@ -308,29 +336,37 @@ def _plot_events_vs_bv(rows, path) -> bool:
 
 
 def _plot_time_vs_samples(rows, path) -> bool:
-    """CPU time when every plotted run has it (steadier on a shared machine), else wall time."""
+    """One panel per scene, one colour per size: KSL solid, swept dashed."""
     import matplotlib.pyplot as plt
-    series = []
-    for key, members in _groups(rows).items():
+    by_scene: Dict[str, List[tuple]] = {}
+    for members in _groups(rows).values():
+        shot = members[0]["shot"]
         for label, style in (("ksl", "o-"), ("swept", "s--")):
             points = [(r["shot"]["samples_per_keyframe"], _ok(r, label)) for r in members
                       if r["shot"].get("samples_per_keyframe")]
-            points = [(s, rec) for s, rec in points if rec]
+            points = [(spk, record) for spk, record in points if record]
             if len(points) >= 2:
-                series.append((f"{key} {label}", style, points))
-    if not series:
+                by_scene.setdefault(shot["scene"], []).append((shot.get("size") or 0, label, style, points))
+    if not by_scene:
         return False
-    use_cpu = all(rec.get("cpu_s") for _, _, points in series for _, rec in points)
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for name, style, points in series:
-        ax.plot([s for s, _ in points], [rec["cpu_s" if use_cpu else "wall_s"] for _, rec in points], style,
-                label=name)
-    ax.set_yscale("log")
-    ax.set_xlabel("samples per keyframe (same keyframes)")
-    ax.set_ylabel("CPU time (s)" if use_cpu else "wall time (s)")
-    ax.set_title("Time vs samples per keyframe (paper Fig. 10)", fontsize=10)
-    ax.legend(fontsize=7)
-    ax.grid(True, which="both", alpha=0.3)
+    time_key = "cpu_s" if _uses_cpu([rec for series in by_scene.values() for *_, points in series
+                                     for _, rec in points]) else "wall_s"
+    fig, axes = plt.subplots(1, len(by_scene), figsize=(4.6 * len(by_scene), 4.0), squeeze=False)
+    for ax, (scene, series) in zip(axes.flat, by_scene.items()):
+        sizes = sorted({size for size, *_ in series})
+        cmap = plt.get_cmap("viridis")
+        for size, label, style, points in series:
+            color = cmap(0.85 * sizes.index(size) / max(len(sizes) - 1, 1))
+            ax.plot([spk for spk, _ in points], [rec[time_key] for _, rec in points], style, color=color,
+                    label=f"{size} {label}")
+        ax.set_yscale("log")
+        ax.set_xticks(sorted({spk for *_, points in series for spk, _ in points}))
+        ax.set_xlabel("samples per keyframe (same keyframes)")
+        ax.set_ylabel("CPU time (s)" if time_key == "cpu_s" else "wall time (s)")
+        ax.set_title(f"{scene}: KSL (solid) vs swept (dashed)", fontsize=9)
+        ax.legend(fontsize=7, ncol=2)
+        ax.grid(True, which="both", alpha=0.3)
+    fig.suptitle("Time vs samples per keyframe (paper Fig. 10)", fontsize=10)
     return _save(fig, path)
 
 
@@ -416,7 +452,7 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
             lines += ["From [ccd_tolerance.md](ccd_tolerance.md) (per-query CCD on the shared ground-truth "
                       "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
     lines += ["## Per shot", ""]
-    for row in rows:
+    for row in sorted(rows, key=lambda r: _shot_order(r["shot"])):
         sources = row.get("revisions") or []
         note = [f"Source: {'; '.join(sources)}" + (" (methods from different builds: compare with care)"
                                                      if len(sources) > 1 else ""), ""] if sources else []
