@@ -417,12 +417,14 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
               f"(shot already loaded) except `read` (the loader alone) and `check` (the whole `usdksl check` "
               f"without interpreter start-up). Peak memory is the kernel's VmHWM above the RSS after loading "
               f"(C++ allocations included). Per-method budget: {budget_s if isinstance(budget_s, str) else format(budget_s, 'g') + ' s'}; methods over budget are listed as "
-              f"skipped with the reason, never dropped. Timings are from a shared 2-core machine on which other jobs "
-              f"ran at the same time: wall times carry noise of up to ~2x between runs; the CPU column "
-              f"(process time; our core is single-threaded, ipctk may use a second thread) is steadier.", ""]
+              f"skipped with the reason, never dropped. Timings are from a shared 2-core machine on which other jobs, "
+              f"including up to three of these benchmark runs, ran at the same time: wall times carry noise of up "
+              f"to ~2x between runs and budgets (wall time) cut runs that would fit on an idle machine; the CPU "
+              f"column (process time; our core is single-threaded, ipctk may use a second thread) is steadier.", ""]
     lines += ["Contacts are compared as authored face pairs (first contact per pair) against KSL on the same shot "
               "with the same build (rows of several runs on one shot file are merged; a method that ran replaces "
-              "a skip). "
+              "a skip; KSL is deterministic for one build, so a comparison made against any KSL run of that build "
+              "is kept). "
               "`ipctk` (Tight-Inclusion CCD, LBVH broad phase, `compute_collision_free_stepsize` per sample interval "
               "over one CollisionMesh of all meshes) answers only the earliest contact of each interval, so it is "
               "compared per interval and its time is a lower bound on what our full answer would cost it; its "
