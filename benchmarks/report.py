@@ -23,7 +23,7 @@ from typing import Dict, List, Optional, Sequence
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from run import METHODS, REFERENCE, SCENE_SIZES, add_comparisons, ksl_events, ratio_rows  # noqa: E402
+from run import METHODS, REFERENCE, SCENE_SIZES, add_comparisons, ksl_events, ratio_rows, same_run_times  # noqa: E402
 
 ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "discrete x8")
 SUMMARY_JSON = "bench_results.json"
@@ -132,6 +132,7 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
             continue
         members, found = located
         row, ksl, swept = found
+        ksl = dict(ksl, **same_run_times(swept, REFERENCE, row["methods"]))  # swept's own run's KSL times
         ratio = swept["wall_s"] / ksl["wall_s"]
         cpu_ratio = _cpu(swept) / _cpu(ksl)
         judged = cpu_ratio if not math.isnan(cpu_ratio) else ratio
@@ -177,8 +178,9 @@ def headlines(rows: Sequence[Dict]) -> List[str]:
     for scene, items in by_scene.items():
         lines.append(f"- KSL peak memory above the loaded shot on {scene} (target: linear in mesh size): "
                      + "; ".join(items) + ".")
-    ipc_rows = [(r, _ok(r, "check"), _ok(r, "ipctk")) for r in rows]
-    ipc_rows = [item for item in ipc_rows if item[1] and item[2]]
+    ipc_rows = [(r, _ok(r, "ipctk")) for r in rows]
+    ipc_rows = [(r, same_run_times(ip, "check", r["methods"]), ip) for r, ip in ipc_rows if ip]
+    ipc_rows = [item for item in ipc_rows if item[1]]
     if ipc_rows:
         ratios = [(ip["load_s"] + ip["wall_s"]) / ch["wall_s"] for _, ch, ip in ipc_rows]
         cpu_ratios = [c for c in ((ip["load_s"] + _cpu(ip)) / _cpu(ch) for _, ch, ip in ipc_rows)
@@ -395,7 +397,7 @@ def grid_table(rows: Sequence[Dict]) -> List[str]:
                 continue
             cell = f"KSL {_cpu(ksl):.3g} s"
             if swept:
-                cell += f", swept/KSL **{_cpu(swept) / _cpu(ksl):.2f}x**"
+                cell += f", swept/KSL **{_cpu(swept) / _cpu(same_run_times(swept, REFERENCE, row['methods'])):.2f}x**"
             else:
                 record = row["methods"].get("swept")
                 cell += f", swept {'skipped: ' + record.get('reason', '') if record else 'not run'}"
@@ -518,10 +520,20 @@ def _recompare(methods: Dict[str, Dict]) -> None:
             add_comparisons({REFERENCE: reference, label: record})
 
 
+def _merge_rank(label: str, record: Dict) -> int:
+    """Which of two records of one method a merged row keeps: one that ran beside KSL in its own run (its
+    ratios and comparison come from one run), then one that ran at all, then a skip or failure."""
+    if record.get("status") != "ok":
+        return 0
+    return 2 if label == REFERENCE or REFERENCE in record.get("same_run", {}) else 1
+
+
 def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
-    """Rows of the same shot (see `shot_key`) from several runs become one row: a method that ran replaces
-    one that was skipped or failed (later runs win among those that ran); comparisons against the kept
-    KSL record are kept when made by the same build and recomputed otherwise."""
+    """Rows of the same shot (see `shot_key`) from several runs become one row. Per method the best-ranked
+    record is kept (`_merge_rank`), the earliest run among equals, so a later run fills what earlier ones
+    lacked without replacing what they measured; each record keeps its own run's times of the other
+    methods (`same_run`) for ratios. Comparisons against the kept KSL record are kept when made by the
+    same build and recomputed otherwise."""
     merged: Dict[tuple, Dict] = {}
     for row in rows:
         target = merged.setdefault(shot_key(row["shot"]),
@@ -535,8 +547,12 @@ def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
             record = dict(record)
             if len(revisions) == 1:
                 record.setdefault("revision", revisions[0])
+            if record.get("status") == "ok" and "same_run" not in record:
+                record["same_run"] = {other: {key: peer[key] for key in ("wall_s", "cpu_s", "load_s") if key in peer}
+                                      for other, peer in row["methods"].items()
+                                      if other != label and peer.get("status") == "ok"}
             kept = target["methods"].get(label)
-            if kept is None or record.get("status") == "ok" or kept.get("status") != "ok":
+            if kept is None or _merge_rank(label, record) > _merge_rank(label, kept):
                 target["methods"][label] = record
     result = []
     for row in merged.values():

@@ -449,14 +449,24 @@ def format_record(record: Dict) -> str:
     return "  ".join(parts)
 
 
+def same_run_times(record: Dict, label: str, records: Dict[str, Dict]) -> Optional[Dict]:
+    """Times of method `label` from the run that measured `record` (kept by report.py when it merges rows of
+    several runs), else the row's own `label` record when it ran: ratios come from one run where they can."""
+    own = record.get("same_run", {}).get(label)
+    if own:
+        return own
+    other = records.get(label, {})
+    return other if other.get("status") == "ok" else None
+
+
 def ratio_rows(records: Dict[str, Dict]) -> List[Dict]:
     """One row per method: time and memory ratios to KSL, contacts found/missed/extra, time errors."""
-    reference = records.get(REFERENCE, {})
-    ref_time = reference.get("wall_s") if reference.get("status") == "ok" else None
     rows = []
     for label, record in records.items():
         row = {"method": label, "status": record.get("status"), "reason": record.get("reason", "")}
         if record.get("status") == "ok":
+            reference = record if label == REFERENCE else same_run_times(record, REFERENCE, records) or {}
+            ref_time = reference.get("wall_s")
             row["wall_s"] = record["wall_s"]
             row["cpu_s"] = record.get("cpu_s")
             ref_cpu = reference.get("cpu_s") if ref_time else None

@@ -102,14 +102,13 @@ def test_rows_merge_by_shot_name_across_checkouts_and_keep_same_build_comparison
     merged = report.merge_rows([quick, grid])
     assert len(merged) == 1
     methods = merged[0]["methods"]
-    assert methods["ksl"]["cpu_s"] == 2.5  # the later run's KSL is kept
+    assert methods["ksl"]["cpu_s"] == 2.0  # the earlier run's KSL is kept; the later one only fills gaps
     assert methods["discrete"]["comparison"]["missed"] == 7 and methods["swept"]["comparison"]["missed"] == 0
 
 
 def test_a_comparison_from_another_build_without_raw_files_is_marked_unavailable(tmp_path):
     gone = str(tmp_path / "gone.npz")
     old = _run_row("a/character_35000_k11_s10.usdc", "old1234", {
-        "ksl": dict(record(2.0), contacts_file=gone),
         "discrete": dict(record(1.0), contacts_file=gone, comparison={"missed": 7, "found": 3})})
     new = _run_row("b/character_35000_k11_s10.usdc", "new5678", {"ksl": dict(record(2.5), contacts_file=gone)})
     merged = report.merge_rows([old, new])
@@ -124,3 +123,17 @@ def test_different_shots_with_one_name_in_different_sizes_stay_apart():
     b = _run_row("y/shot.usdc", "r", {"ksl": record(1.0)})
     b["shot"]["triangles"] += 2
     assert len(report.merge_rows([a, b])) == 2
+
+
+def test_ratios_use_ksl_from_the_same_run_and_earlier_runs_are_not_replaced():
+    """A later run on a busier machine fills in a method; its ratio uses its own run's KSL, and it never
+    replaces the ratios an earlier run measured."""
+    quiet = _run_row("s/tablecloth_16000_k11_s10.usdc", "r", {"ksl": record(10.0), "swept": record(30.0)})
+    busy = _run_row("t/tablecloth_16000_k11_s10.usdc", "r", {"ksl": record(20.0), "swept": record(50.0),
+                                                             "discrete x4": record(40.0)})
+    merged = report.merge_rows([quiet, busy])
+    row = merged[0]
+    assert row["methods"]["ksl"]["cpu_s"] == 10.0 and row["methods"]["swept"]["cpu_s"] == 30.0
+    ratios = {r["method"]: r["cpu_vs_ksl"] for r in report.ratio_rows(row["methods"])}
+    assert ratios["swept"] == 3.0 and ratios["discrete x4"] == 2.0
+    assert "swept/KSL **3.00x**" in "\n".join(report.grid_table(merged))
