@@ -137,3 +137,13 @@ def test_ratios_use_ksl_from_the_same_run_and_earlier_runs_are_not_replaced():
     ratios = {r["method"]: r["cpu_vs_ksl"] for r in report.ratio_rows(row["methods"])}
     assert ratios["swept"] == 3.0 and ratios["discrete x4"] == 2.0
     assert "swept/KSL **3.00x**" in "\n".join(report.grid_table(merged))
+
+
+def test_counter_reading_explains_swept_getting_cheaper_with_denser_sampling():
+    ksl = record(10.0, polygons_collide_events=10, bv_overlap_events=10, bv_tests=100, narrow_phase_tests=50,
+                 primitive_queries=1_000)
+    dense = record(20.0, bv_tests=3000, narrow_phase_tests=500, primitive_queries=5_000)
+    sparse = record(40.0, bv_tests=300, narrow_phase_tests=400, primitive_queries=9_000)
+    text = report.counter_reading(ksl, dense, sparse)
+    assert "= 0.5x in CPU" in text and "primitive CCD queries drop from 9000 to 5000" in text
+    assert "drop from" not in report.counter_reading(ksl, sparse, dense)
