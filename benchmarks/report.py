@@ -460,7 +460,9 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
         with open(tolerance_table) as handle:
             lines += ["From [ccd_tolerance.md](ccd_tolerance.md) (per-query CCD on the shared ground-truth "
                       "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
-    lines += ["## Per shot", ""]
+    lines += ["## Per shot", "",
+              "The 'x KSL' columns divide each method's time by the KSL time of the same run. Where a shot's "
+              "methods come from several runs, that can differ from the KSL row (the KSL of the earliest run).", ""]
     for row in sorted(rows, key=lambda r: _shot_order(r["shot"])):
         sources = row.get("revisions") or []
         note = [f"Source: {'; '.join(sources)}" + (" (methods from different builds: compare with care)"
