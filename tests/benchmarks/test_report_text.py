@@ -147,3 +147,15 @@ def test_counter_reading_explains_swept_getting_cheaper_with_denser_sampling():
     text = report.counter_reading(ksl, dense, sparse)
     assert "= 0.5x in CPU" in text and "primitive CCD queries drop from 9000 to 5000" in text
     assert "drop from" not in report.counter_reading(ksl, sparse, dense)
+
+
+def test_ipctk_over_its_budget_gives_a_lower_bound_against_check_from_the_same_run():
+    run = _run_row("x/character_35000_k11_s1.usdc", "r", {
+        "ksl": record(30.0), "check": record(40.0, wall_s=50.0),
+        "ipctk": {"label": "ipctk", "status": "skipped", "reason": "exceeded the 2400 s budget"}})
+    carried = _run_row("x/character_35000_k11_s10.usdc", "r", {
+        "check": record(80.0), "ipctk": {"label": "ipctk", "status": "skipped",
+                                          "reason": "exceeded the 2400 s budget at 1 samples/keyframe"}})
+    text = "\n".join(report.headlines(report.merge_rows([run, carried])))
+    assert "ipctk/check >= **48.0x** in wall time" in text and "met on 1 of 1" in text
+    assert "10 samples/keyframe: ipctk over" not in text  # a carried skip has no time of its own
