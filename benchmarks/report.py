@@ -551,12 +551,14 @@ def _recompare(methods: Dict[str, Dict]) -> None:
             add_comparisons({REFERENCE: reference, label: record})
 
 
-def _merge_rank(label: str, record: Dict) -> int:
+def _merge_rank(label: str, record: Dict) -> tuple:
     """Which of two records of one method a merged row keeps: one that ran beside KSL in its own run (its
-    ratios and comparison come from one run), then one that ran at all, then a skip or failure."""
+    ratios and comparison come from one run), then one that ran at all, then the skip with the largest
+    budget (the strongest lower bound), then a failure."""
     if record.get("status") != "ok":
-        return 0
-    return 2 if label == REFERENCE or REFERENCE in record.get("same_run", {}) else 1
+        budget = re.match(r"exceeded the ([0-9.]+) s budget", record.get("reason", ""))
+        return 0, float(budget.group(1)) if budget else 0.0
+    return 2 if label == REFERENCE or REFERENCE in record.get("same_run", {}) else 1, 0.0
 
 
 def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
