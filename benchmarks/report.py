@@ -414,8 +414,7 @@ def grid_table(rows: Sequence[Dict]) -> List[str]:
         return []
     lines = ["| shot | triangles | " + " | ".join(f"{s} spk" for s in samplings) + " |",
              "|---|---|" + "---|" * len(samplings)]
-    ordered = sorted(groups.items(), key=lambda item: (item[1][0]["shot"]["scene"], item[1][0]["shot"].get("size") or 0))
-    for key, members in ordered:
+    for key, members in groups.items():
         cells = []
         for spk in samplings:
             row = next((r for r in members if r["shot"].get("samples_per_keyframe") == spk), None)
