@@ -28,6 +28,8 @@ from run import METHODS, REFERENCE, SCENE_SIZES, add_comparisons, ksl_events, ra
 
 ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "discrete x8")
 SUMMARY_JSON = "bench_results.json"
+#: Hand-written findings about this page's numbers, embedded under "Investigations" when present.
+NOTES_MD = "notes.md"
 
 
 def _ok(row: Dict, label: str) -> Optional[Dict]:
@@ -486,6 +488,11 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
         with open(tolerance_table) as handle:
             lines += ["From [ccd_tolerance.md](ccd_tolerance.md) (per-query CCD on the shared ground-truth "
                       "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
+    notes = os.path.join(out_dir, NOTES_MD)
+    if os.path.exists(notes):
+        with open(notes) as handle:
+            lines += ["## Investigations", "", f"From [{NOTES_MD}]({NOTES_MD}) (written by hand, with the commands "
+                      "that check each finding):", "", handle.read().strip(), ""]
     lines += ["## Per shot", "",
               "The 'x KSL' columns divide each method's time by the KSL time of the same run. Where a shot's "
               "methods come from several runs, that can differ from the KSL row (the KSL of the earliest run).", ""]

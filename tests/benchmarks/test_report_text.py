@@ -161,3 +161,11 @@ def test_ipctk_over_its_budget_gives_a_lower_bound_against_check_from_the_same_r
     text = "\n".join(report.headlines(report.merge_rows([quick, run, carried])))
     assert "ipctk/check >= **48.0x** in wall time" in text and "met on 1 of 1" in text
     assert "10 samples/keyframe: ipctk over" not in text  # a carried skip has no time of its own
+
+
+def test_hand_written_notes_are_embedded_under_investigations(tmp_path):
+    rows = [{"shot": dict(shot("tablecloth", 2000, 1), path="a.usdc"), "methods": {"ksl": record(1.0)}}]
+    assert "## Investigations" not in report.render(rows, 60.0, {}, str(tmp_path))
+    (tmp_path / report.NOTES_MD).write_text("- a finding, with the command that checks it\n")
+    page = report.render(rows, 60.0, {}, str(tmp_path))
+    assert "## Investigations" in page and "- a finding, with the command that checks it" in page
