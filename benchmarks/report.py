@@ -336,30 +336,34 @@ def _plot_time_vs_missed(rows, path) -> bool:
 
 
 def _plot_events_vs_bv(rows, path) -> bool:
+    """Per sample interval, over mesh size: one line per scene and sampling (the densest one where both
+    methods ran on a size), so sizes measured at different samplings are not joined."""
     import matplotlib.pyplot as plt
-    by_scene: Dict[str, Dict[str, list]] = {}
+    series: Dict[tuple, Dict[str, list]] = {}
     for members in _groups(rows).values():
         with_both = [r for r in members if _ok(r, "ksl") and _ok(r, "swept")]
         if not with_both:
             continue
-        row = with_both[-1]  # the densest sampling where both ran
+        row = with_both[-1]
         ksl, swept = _ok(row, "ksl"), _ok(row, "swept")
         intervals = max(row["shot"]["samples"] - 1, 1)
-        series = by_scene.setdefault(row["shot"]["scene"], {"n": [], "ksl": [], "swept": [], "spk": []})
-        if ksl:
-            series["spk"].append(row["shot"].get("samples_per_keyframe"))
-            series["n"].append(row["shot"]["moving_triangles"])
-            series["ksl"].append(ksl_events(ksl["counters"]) / intervals)
-            series["swept"].append(swept["counters"]["bv_tests"] / intervals if swept else float("nan"))
-    if not any(s["n"] for s in by_scene.values()):
+        line = series.setdefault((row["shot"]["scene"], row["shot"].get("samples_per_keyframe")),
+                                 {"n": [], "ksl": [], "swept": []})
+        line["n"].append(row["shot"]["moving_triangles"])
+        line["ksl"].append(ksl_events(ksl["counters"]) / intervals)
+        line["swept"].append(swept["counters"]["bv_tests"] / intervals)
+    if not series:
         return False
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for scene, series in by_scene.items():
-        order = sorted(range(len(series["n"])), key=lambda i: series["n"][i])
-        n = [series["n"][i] for i in order]
-        spk = "/".join(sorted({str(series["spk"][i]) for i in order}))
-        line, = ax.plot(n, [series["ksl"][i] for i in order], "o-", label=f"{scene} ({spk} spk): KSL events")
-        ax.plot(n, [series["swept"][i] for i in order], "s--", color=line.get_color(),
+    scenes = list(dict.fromkeys(scene for scene, _ in series))
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for (scene, spk), line in series.items():
+        order = sorted(range(len(line["n"])), key=lambda i: line["n"][i])
+        n = [line["n"][i] for i in order]
+        color = f"C{scenes.index(scene)}"
+        marker = SAMPLING_MARKERS.get(spk, "x")
+        ax.plot(n, [line["ksl"][i] for i in order], "-", marker=marker, color=color,
+                label=f"{scene} ({spk} spk): KSL events")
+        ax.plot(n, [line["swept"][i] for i in order], "--", marker=marker, color=color, markerfacecolor="none",
                 label=f"{scene} ({spk} spk): swept BV tests")
     ax.set_xscale("log")
     ax.set_yscale("log")
