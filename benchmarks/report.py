@@ -212,10 +212,10 @@ def ipctk_over_budget(rows: Sequence[Dict]) -> List[str]:
     bounds = []
     for row in rows:
         record = row["methods"].get("ipctk", {})
-        match = re.fullmatch(r"exceeded the ([0-9.]+) s budget", record.get("reason", ""))
+        over = _over_budget(record)
         check = record.get("same_run", {}).get("check")
-        if record.get("status") == "skipped" and match and check:
-            budget = float(match.group(1))
+        if over and over[1] and check:
+            budget = over[0]
             bounds.append((budget / check["wall_s"],
                            f"{_shot_title(row['shot'])}: ipctk over its {budget:g} s budget, `check` "
                            f"{check['wall_s']:.1f} s wall ({check.get('cpu_s', float('nan')):.1f} s CPU) in the same "
@@ -564,13 +564,22 @@ def _recompare(methods: Dict[str, Dict]) -> None:
             add_comparisons({REFERENCE: reference, label: record})
 
 
+#: How run.py words a skip for time: its own budget, or one a sparser sampling of the shot already exceeded.
+_OVER_BUDGET = re.compile(r"exceeded the ([0-9.]+) s budget( at .+)?")
+
+
+def _over_budget(record: Dict) -> Optional[tuple]:
+    """(budget in seconds, whether this run itself spent it) for a skip over budget, else None."""
+    match = _OVER_BUDGET.fullmatch(record.get("reason", "")) if record.get("status") == "skipped" else None
+    return (float(match.group(1)), match.group(2) is None) if match else None
+
+
 def _merge_rank(label: str, record: Dict) -> tuple:
     """Which of two records of one method a merged row keeps: one that ran beside KSL in its own run (its
     ratios and comparison come from one run), then one that ran at all, then the skip with the largest
     budget (the strongest lower bound), then a failure."""
     if record.get("status") != "ok":
-        budget = re.match(r"exceeded the ([0-9.]+) s budget", record.get("reason", ""))
-        return 0, float(budget.group(1)) if budget else 0.0
+        return 0, (_over_budget(record) or (0.0, False))[0]
     return 2 if label == REFERENCE or REFERENCE in record.get("same_run", {}) else 1, 0.0
 
 
