@@ -457,7 +457,7 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
               f"without interpreter start-up). Peak memory is the kernel's VmHWM above the RSS after loading "
               f"(C++ allocations included). Per-method budget: {budget_s if isinstance(budget_s, str) else format(budget_s, 'g') + ' s'}; methods over budget are listed as "
               f"skipped with the reason, never dropped. Timings are from a shared 2-core machine on which other jobs, "
-              f"including up to three of these benchmark runs, ran at the same time: wall times carry noise of up "
+              f"including up to four of these benchmark runs, ran at the same time: wall times carry noise of up "
               f"to ~2x between runs and budgets (wall time) cut runs that would fit on an idle machine; the CPU "
               f"column (process time; our core is single-threaded, ipctk may use a second thread) is steadier.", ""]
     lines += ["Contacts are compared as authored face pairs (first contact per pair) against KSL on the same shot "
