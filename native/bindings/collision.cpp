@@ -111,6 +111,8 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     counters["narrow_phase_tests"] = k.narrow_phase_tests;
     counters["primitive_queries"] = k.primitive_queries;
     counters["undecided_queries"] = k.undecided_queries;
+    counters["raw_confirmations"] = k.raw_confirmations;
+    counters["raw_rejections"] = k.raw_rejections;
     out["counters"] = counters;
     return out;
 }

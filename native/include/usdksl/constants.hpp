@@ -17,13 +17,25 @@ constexpr int64_t DEFAULT_CCD_MAX_ITERATIONS = 1'000'000;
 /// @brief Default minimum separation d (scene units): contact is distance <= d.
 constexpr double DEFAULT_THICKNESS = 0.0;
 
-/// @brief Tolerance, relative to the scene scale (largest absolute coordinate),
-///        below which a vertex's consecutive flightplan segments count as
-///        collinear and merge into one. USD stores points as float32, so
+/// @brief Tolerance, relative to the largest absolute coordinate of the
+///        samples that would merge, below which a vertex's consecutive
+///        flightplan segments count as collinear and merge into one. USD stores points as float32, so
 ///        keyframes resampled linearly are collinear only to float32 precision
 ///        (2^-24 relative); four times that keeps merging reliable. The
-///        deviation a merge introduces is added to the contact distance, so
-///        merging never hides a contact.
+///        deviation a merge introduces is added to the contact distance of
+///        that mesh's pairs, so merging never hides a contact, and every
+///        reported contact is confirmed on the raw samples.
 constexpr double FLIGHTPLAN_COLLINEAR_TOLERANCE = 0x1p-22;
+
+/// @brief Relative slack (to the larger magnitude of the two vertices compared)
+///        by which a kinetic certificate lets one vertex overtake another
+///        before it fails; boxes grow by the accumulated slack so nothing is missed.
+constexpr double KINETIC_ORDER_TOLERANCE = 1e-12;
+
+/// @brief Relative padding (to the magnitude of the vertices under a box)
+///        added to every box overlap test on top of the thickness, covering
+///        rounding in box evaluation. Local, so one far-away vertex pads only
+///        the boxes that hold it.
+constexpr double BOX_PADDING = 1e-10;
 
 } // namespace usdksl

@@ -1,5 +1,7 @@
 #include "usdksl/broad_phase/aabb_tree.hpp"
 
+#include "usdksl/constants.hpp"
+
 #include <utility>
 
 namespace usdksl {
@@ -19,7 +21,6 @@ AabbTree::AabbTree(const Scene& scene, int32_t mesh, double t_build) : scene_(sc
 void AabbTree::refit(double t0, double t1, double padding) {
     const Flightplans& plans = scene_.plans[mesh_];
     const std::vector<Triangle>& triangles = scene_.meshes[mesh_].triangles;
-    const Vec3 pad = Vec3::Constant(padding);
     // Children come after their parent, so a reverse sweep is bottom-up.
     for (int32_t node = topology_.node_count() - 1; node >= 0; --node) {
         if (topology_.is_leaf(node)) {
@@ -32,6 +33,9 @@ void AabbTree::refit(double t0, double t1, double padding) {
                     hi = hi.cwiseMax(p);
                 }
             }
+            // Rounding padding scales with this triangle's own coordinates only.
+            const double magnitude = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+            const Vec3 pad = Vec3::Constant(padding + BOX_PADDING * magnitude);
             lower_[node] = lo - pad;
             upper_[node] = hi + pad;
         } else {

@@ -20,9 +20,20 @@ std::vector<std::unique_ptr<AabbTree>> build_trees(const Scene& scene,
     return trees;
 }
 
-void refit_all(std::vector<std::unique_ptr<AabbTree>>& trees, double t0, double t1, double padding) {
-    for (auto& tree : trees) {
-        if (tree) tree->refit(t0, t1, padding);
+/// Each tree grows by half the contact distance its mesh contributes, so two
+/// boxes meet exactly when their triangles may come within contact distance.
+std::vector<double> tree_paddings(const Scene& scene, double thickness) {
+    std::vector<double> padding(scene.meshes.size());
+    for (size_t m = 0; m < padding.size(); ++m) {
+        padding[m] = 0.5 * thickness + MERGE_DEVIATION_TO_DISTANCE * scene.merge_deviation(static_cast<int32_t>(m));
+    }
+    return padding;
+}
+
+void refit_all(std::vector<std::unique_ptr<AabbTree>>& trees, double t0, double t1,
+               const std::vector<double>& padding) {
+    for (size_t m = 0; m < trees.size(); ++m) {
+        if (trees[m]) trees[m]->refit(t0, t1, padding[m]);
     }
 }
 
@@ -32,7 +43,7 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
                       const CheckOptions& options, TrianglePairTester& tester, Counters& counters) {
     const std::vector<double> times = merged_sample_times(scene, mesh_pairs, options.t_begin, options.t_end);
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
-    const double padding = 0.5 * options.ccd.thickness + BOX_PADDING * scene.scale;
+    const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
     // Static test at the range start, on boxes of that instant.
     refit_all(trees, options.t_begin, options.t_begin, padding);
     for (const auto& [ma, mb] : mesh_pairs) {
@@ -70,7 +81,7 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
         }
     }
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
-    const double padding = 0.5 * options.ccd.thickness + BOX_PADDING * scene.scale;
+    const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
     for (double t : instants) {
         refit_all(trees, t, t, padding);
         for (const auto& [ma, mb] : mesh_pairs) {

@@ -1,6 +1,7 @@
 #include "usdksl/collision/check.hpp"
 
 #include "usdksl/broad_phase/baselines.hpp"
+#include "usdksl/collision/raw_sample_confirmation.hpp"
 #include "usdksl/collision/scene.hpp"
 #include "usdksl/collision/triangle_pair_tester.hpp"
 #include "usdksl/kinetic/separation_list.hpp"
@@ -46,29 +47,31 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                           const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs, const CheckOptions& options) {
     validate(meshes, mesh_pairs, options);
     CheckResult result;
-    // The reference reads the raw samples; every other method shares merged flightplans.
-    const Scene scene(meshes, options.method != Method::BruteForce);
-    CheckOptions effective = options;
-    effective.ccd.thickness = scene.contact_distance(options.ccd.thickness);
-    TrianglePairTester tester(scene, effective.ccd, result.counters);
+    // The event-based and swept methods run on merged flightplans with local
+    // slack and find candidates; every answer is confirmed on the raw samples.
+    // The reference and the discrete check read the raw samples directly.
+    const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
+    const Scene scene(meshes, merge);
+    TrianglePairTester tester(scene, options.ccd, result.counters);
     switch (options.method) {
     case Method::KineticSeparationList: {
-        KineticSeparationLists lists(scene, mesh_pairs, tester, result.counters, effective.t_begin,
-                                     effective.t_end, effective.ccd.thickness);
-        lists.run(effective.progress);
+        KineticSeparationLists lists(scene, mesh_pairs, tester, result.counters, options.t_begin, options.t_end,
+                                     options.ccd.thickness);
+        lists.run(options.progress);
         break;
     }
     case Method::SweptVolume:
-        run_swept_volume(scene, mesh_pairs, effective, tester, result.counters);
+        run_swept_volume(scene, mesh_pairs, options, tester, result.counters);
         break;
     case Method::Discrete:
-        run_discrete(scene, mesh_pairs, effective, tester, result.counters);
+        run_discrete(scene, mesh_pairs, options, tester, result.counters);
         break;
     case Method::BruteForce:
-        run_brute_force(scene, mesh_pairs, effective, tester);
+        run_brute_force(scene, mesh_pairs, options, tester);
         break;
     }
-    result.contacts = tester.sorted_contacts();
+    result.contacts = confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
+                                             options.t_end, result.counters);
     return result;
 }
 

@@ -1,16 +1,38 @@
 #include "usdksl/collision/scene.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace usdksl {
+namespace {
 
-Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear) : meshes(meshes_in) {
+std::vector<FlightplanKind> uniform_kinds(size_t count, bool merge_collinear) {
+    return std::vector<FlightplanKind>(count,
+                                       merge_collinear ? FlightplanKind::MergedSamples : FlightplanKind::RawSamples);
+}
+
+} // namespace
+
+Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear)
+    : Scene(meshes_in, uniform_kinds(meshes_in.size(), merge_collinear)) {}
+
+Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<FlightplanKind>& kinds)
+    : meshes(meshes_in) {
+    if (kinds.size() != meshes.size()) throw std::invalid_argument("scene: one flightplan kind per mesh");
     plans.reserve(meshes.size());
-    for (const MeshAnimation& mesh : meshes) {
-        plans.emplace_back(mesh, merge_collinear);
-        scale = std::max(scale, plans.back().max_abs_coordinate());
-        merge_deviation = std::max(merge_deviation, plans.back().merge_deviation());
+    merge_deviation_.reserve(meshes.size());
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        if (kinds[m] == FlightplanKind::Unused) {
+            plans.emplace_back();
+        } else {
+            plans.emplace_back(meshes[m], kinds[m] == FlightplanKind::MergedSamples);
+        }
+        merge_deviation_.push_back(plans.back().merge_deviation());
     }
+}
+
+bool Scene::any_merged() const {
+    return std::any_of(merge_deviation_.begin(), merge_deviation_.end(), [](double d) { return d > 0.0; });
 }
 
 std::array<Vec3, 3> Scene::triangle_at(int32_t mesh, int32_t tri, double t) const {

@@ -15,6 +15,12 @@ TrianglePairTester::TrianglePairTester(const Scene& scene, const CCDSettings& se
     }
 }
 
+CCDSettings TrianglePairTester::settings_for(int32_t mesh_a, int32_t mesh_b) const {
+    CCDSettings settings = settings_;
+    settings.thickness = scene_.contact_distance(mesh_a, mesh_b, settings_.thickness);
+    return settings;
+}
+
 uint64_t TrianglePairTester::key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const {
     uint64_t a = static_cast<uint64_t>(triangle_offset_[mesh_a] + tri_a);
     uint64_t b = static_cast<uint64_t>(triangle_offset_[mesh_b] + tri_b);
@@ -65,7 +71,7 @@ bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b
     const std::array<Vec3, 3> b1 = scene_.triangle_at(mesh_b, tri_b, step.end);
     const MovingTriangle a{scene_.meshes[mesh_a].triangles[tri_a], a0, a1};
     const MovingTriangle b{scene_.meshes[mesh_b].triangles[tri_b], b0, b1};
-    const TrianglePairContact hit = triangle_pair_ccd(a, b, mesh_a == mesh_b, settings_);
+    const TrianglePairContact hit = triangle_pair_ccd(a, b, mesh_a == mesh_b, settings_for(mesh_a, mesh_b));
     counters_.primitive_queries += hit.queries;
     if (hit.undecided) ++counters_.undecided_queries;
     if (!hit.hit) return false;
@@ -86,7 +92,7 @@ bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh
     const bool hit = triangle_pair_intersect_static(
         scene_.meshes[mesh_a].triangles[tri_a], scene_.triangle_at(mesh_a, tri_a, t),
         scene_.meshes[mesh_b].triangles[tri_b], scene_.triangle_at(mesh_b, tri_b, t), mesh_a == mesh_b,
-        settings_.thickness);
+        scene_.contact_distance(mesh_a, mesh_b, settings_.thickness));
     if (!hit) return false;
     Contact contact;
     contact.time = t;

@@ -26,6 +26,12 @@ double deviation_from_chord(const MeshAnimation& mesh, int32_t v, int64_t i, int
     return worst;
 }
 
+/// Largest absolute coordinate of vertex v at sample k (scene units).
+double sample_magnitude(const MeshAnimation& mesh, int32_t v, int64_t k) {
+    const double* p = &mesh.points[(static_cast<size_t>(k) * static_cast<size_t>(mesh.vertex_count) + v) * 3];
+    return std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
+}
+
 } // namespace
 
 Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
@@ -42,28 +48,34 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
     }
     for (double c : mesh.points) {
         if (!std::isfinite(c)) throw std::invalid_argument("flightplans: non-finite point coordinate");
-        max_abs_coordinate_ = std::max(max_abs_coordinate_, std::abs(c));
     }
-    const double merge_tolerance = FLIGHTPLAN_COLLINEAR_TOLERANCE * std::max(1.0, max_abs_coordinate_);
 
     offsets_.reserve(static_cast<size_t>(n) + 1);
     offsets_.push_back(0);
+    vertex_magnitude_.assign(static_cast<size_t>(n), 0.0);
     std::vector<int64_t> kept;
     kept.reserve(static_cast<size_t>(sample_count));
     for (int32_t v = 0; v < n; ++v) {
         kept.clear();
         kept.push_back(0);
         double run_deviation = 0.0;  // of the samples dropped since the last kept one
+        double run_magnitude = sample_magnitude(mesh, v, 0);  // of the samples since the last kept one
         for (int64_t k = 1; k < sample_count; ++k) {
             if (merge_collinear && k + 1 < sample_count) {
                 // Drop sample k when every sample since the last kept one lies on
-                // the chord from the last kept sample to sample k + 1.
+                // the chord from the last kept sample to sample k + 1, within a
+                // tolerance relative to those samples alone: one vertex far away
+                // (a simulation blow-up) loosens nothing elsewhere.
                 const int64_t anchor = kept.back();
+                const double magnitude = std::max({run_magnitude, sample_magnitude(mesh, v, k),
+                                                   sample_magnitude(mesh, v, k + 1)});
+                const double merge_tolerance = FLIGHTPLAN_COLLINEAR_TOLERANCE * magnitude;
                 double worst = 0.0;
                 for (int64_t j = anchor + 1; j <= k && worst <= merge_tolerance; ++j) {
                     worst = std::max(worst, deviation_from_chord(mesh, v, anchor, j, k + 1));
                 }
                 if (worst <= merge_tolerance) {
+                    run_magnitude = std::max(run_magnitude, sample_magnitude(mesh, v, k));
                     run_deviation = worst;
                     continue;
                 }
@@ -71,6 +83,7 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
                 run_deviation = 0.0;
             }
             kept.push_back(k);
+            run_magnitude = sample_magnitude(mesh, v, k);
         }
         merge_deviation_ = std::max(merge_deviation_, run_deviation);
         // A vertex that never moves keeps a single breakpoint.
@@ -83,12 +96,14 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
             if (still) kept.pop_back();
         }
         for (int64_t k : kept) {
+            vertex_magnitude_[v] = std::max(vertex_magnitude_[v], sample_magnitude(mesh, v, k));
             key_times_.push_back(mesh.times[k]);
             for (int axis = 0; axis < 3; ++axis) {
                 key_points_.push_back(mesh.points[(static_cast<size_t>(k) * n + v) * 3 + axis]);
             }
         }
         offsets_.push_back(static_cast<int64_t>(key_times_.size()));
+        max_abs_coordinate_ = std::max(max_abs_coordinate_, vertex_magnitude_[v]);
     }
     segment_hint_.assign(offsets_.begin(), offsets_.end() - 1);
 }

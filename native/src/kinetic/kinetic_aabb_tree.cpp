@@ -1,5 +1,6 @@
 #include "usdksl/kinetic/kinetic_aabb_tree.hpp"
 
+#include "usdksl/constants.hpp"
 #include "usdksl/flightplan/crossing.hpp"
 
 #include <algorithm>
@@ -9,8 +10,8 @@
 namespace usdksl {
 
 KineticAabbTree::KineticAabbTree(const Flightplans& plans, const std::vector<Triangle>& triangles,
-                                 double t_build, double order_tolerance)
-    : plans_(&plans), triangles_(&triangles), order_tolerance_(order_tolerance) {
+                                 double t_build)
+    : plans_(&plans), triangles_(&triangles) {
     std::vector<Vec3> centroids(triangles.size());
     for (size_t i = 0; i < triangles.size(); ++i) {
         const Triangle& tri = triangles[i];
@@ -18,10 +19,30 @@ KineticAabbTree::KineticAabbTree(const Flightplans& plans, const std::vector<Tri
                         plans.position(tri[2], t_build)) / 3.0;
     }
     topology_ = build_bvh_topology(centroids);
-    extreme_.assign(static_cast<size_t>(topology_.node_count()) * BOX_SLOTS, -1);
+    const int32_t node_count = topology_.node_count();
+    extreme_.assign(static_cast<size_t>(node_count) * BOX_SLOTS, -1);
+    // Per node: the largest vertex magnitude under it, and the levels below it.
+    std::vector<double> magnitude(static_cast<size_t>(node_count), 0.0);
+    std::vector<int32_t> height(static_cast<size_t>(node_count), 0);
     // Children come after their parent, so a reverse sweep is bottom-up.
-    for (int32_t node = topology_.node_count() - 1; node >= 0; --node) {
+    for (int32_t node = node_count - 1; node >= 0; --node) {
         for (int slot = 0; slot < BOX_SLOTS; ++slot) repick(node, slot, t_build);
+        if (topology_.is_leaf(node)) {
+            for (int32_t v : triangles[topology_.triangle[node]]) {
+                magnitude[node] = std::max(magnitude[node], plans.vertex_magnitude(v));
+            }
+        } else {
+            const int32_t l = topology_.left[node], r = topology_.right[node];
+            magnitude[node] = std::max(magnitude[l], magnitude[r]);
+            height[node] = 1 + std::max(height[l], height[r]);
+        }
+    }
+    // A stored side lags the true extreme by at most one certificate tolerance
+    // per level (each bounded by this node's magnitude); two levels spare.
+    box_margin_.resize(static_cast<size_t>(node_count));
+    for (int32_t node = 0; node < node_count; ++node) {
+        box_margin_[node] =
+            magnitude[node] * (KINETIC_ORDER_TOLERANCE * (height[node] + 2) + BOX_PADDING);
     }
 }
 
@@ -75,9 +96,11 @@ double KineticAabbTree::certificate_failure(int32_t node, int slot, double t, do
     for (int i = 0; i < count; ++i) {
         if (cand[i] == winner) continue;
         // Gap that stays >= 0 while the winner leads by at least -order_tolerance.
+        const double order_tolerance =
+            KINETIC_ORDER_TOLERANCE * std::max(plans_->vertex_magnitude(winner), plans_->vertex_magnitude(cand[i]));
         const AxisGap gap = slot_is_max(slot)
-                                ? AxisGap{plans_, winner, plans_, cand[i], axis, order_tolerance_}
-                                : AxisGap{plans_, cand[i], plans_, winner, axis, order_tolerance_};
+                                ? AxisGap{plans_, winner, plans_, cand[i], axis, order_tolerance}
+                                : AxisGap{plans_, cand[i], plans_, winner, axis, order_tolerance};
         const CrossingTime crossing =
             first_gap_change(gap, GapChange::DropsBelowZero, t, std::min(failure, t_limit), KINETIC_SEARCH_PIECES);
         failure = std::min(failure, crossing.time);

@@ -33,7 +33,6 @@ KineticSeparationLists::KineticSeparationLists(const Scene& scene,
     trees_.resize(mesh_count);
     tree_handle_base_.assign(mesh_count, 0);
     node_entries_.resize(mesh_count);
-    const double order_tolerance = KINETIC_ORDER_TOLERANCE * scene.scale;
     std::vector<bool> used(mesh_count, false);
     for (const auto& [ma, mb] : mesh_pairs) used[ma] = used[mb] = true;
     // Handles follow mesh order, which process_tree_event relies on.
@@ -42,7 +41,7 @@ KineticSeparationLists::KineticSeparationLists(const Scene& scene,
         tree_handle_base_[mesh] = handles;
         if (!used[mesh] || scene.meshes[mesh].triangles.empty()) continue;
         trees_[mesh] = std::make_unique<KineticAabbTree>(scene.plans[mesh], scene.meshes[mesh].triangles,
-                                                         t_begin, order_tolerance);
+                                                         t_begin);
         handles += static_cast<int64_t>(trees_[mesh]->topology().node_count()) * BOX_SLOTS;
         node_entries_[mesh].resize(static_cast<size_t>(trees_[mesh]->topology().node_count()));
     }
@@ -51,8 +50,7 @@ KineticSeparationLists::KineticSeparationLists(const Scene& scene,
         if (!trees_[ma] || !trees_[mb]) continue;
         List list{std::min(ma, mb), std::max(ma, mb), ma == mb, {}};
         lists_.push_back(std::move(list));
-        margin_.push_back(thickness + trees_[ma]->box_slack() + trees_[mb]->box_slack() +
-                          BOX_PADDING * scene.scale);
+        margin_.push_back(scene.contact_distance(ma, mb, thickness));
     }
 }
 
@@ -116,12 +114,16 @@ int KineticSeparationLists::children_of(const List& list, int32_t a, int32_t b, 
 
 // ---------------------------------------------------------- kinetic geometry
 
+double KineticSeparationLists::margin_of(const List& list, int32_t a, int32_t b) const {
+    return margin_[&list - lists_.data()] + trees_[list.mesh_a]->box_margin(a) + trees_[list.mesh_b]->box_margin(b);
+}
+
 bool KineticSeparationLists::overlaps(const List& list, int32_t a, int32_t b, double t) {
     if (list.self && a == b) return true;
     ++counters_.bv_tests;
     const KineticAabbTree& ta = *trees_[list.mesh_a];
     const KineticAabbTree& tb = *trees_[list.mesh_b];
-    const double margin = margin_[&list - lists_.data()];
+    const double margin = margin_of(list, a, b);
     for (int axis = 0; axis < 3; ++axis) {
         if (ta.side(a, 2 * axis + 1, t) - tb.side(b, 2 * axis, t) + margin < 0.0) return false;
         if (tb.side(b, 2 * axis + 1, t) - ta.side(a, 2 * axis, t) + margin < 0.0) return false;
@@ -134,7 +136,7 @@ void KineticSeparationLists::box_gaps(const List& list, int32_t a, int32_t b, Ax
     // the boxes overlap exactly while all six are >= 0.
     const KineticAabbTree& ta = *trees_[list.mesh_a];
     const KineticAabbTree& tb = *trees_[list.mesh_b];
-    const double margin = margin_[&list - lists_.data()];
+    const double margin = margin_of(list, a, b);
     for (int axis = 0; axis < 3; ++axis) {
         gaps[2 * axis] = {&ta.plans(), ta.extreme(a, 2 * axis + 1), &tb.plans(), tb.extreme(b, 2 * axis), axis, margin};
         gaps[2 * axis + 1] = {&tb.plans(), tb.extreme(b, 2 * axis + 1), &ta.plans(), ta.extreme(a, 2 * axis), axis,

@@ -20,7 +20,8 @@ public:
 
     /// @brief Refits every box to enclose each triangle at time codes t0 and t1
     ///        (the swept volume of a linear step when t0 < t1; a static box when
-    ///        t0 == t1), grown by `padding` scene units on every side.
+    ///        t0 == t1), grown by `padding` scene units on every side plus
+    ///        BOX_PADDING times the magnitude of the triangle's own coordinates.
     void refit(double t0, double t1, double padding);
 
     const BvhTopology& topology() const { return topology_; }

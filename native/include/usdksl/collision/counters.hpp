@@ -22,6 +22,10 @@ struct Counters {
     int64_t primitive_queries = 0;
     /// @brief Primitive queries that hit the iteration cap.
     int64_t undecided_queries = 0;
+    /// @brief Candidate contacts of merged flightplans re-tested on the raw samples.
+    int64_t raw_confirmations = 0;
+    /// @brief Re-tested candidates that never touch on the raw samples (dropped).
+    int64_t raw_rejections = 0;
 };
 
 } // namespace usdksl

@@ -11,35 +11,52 @@
 
 namespace usdksl {
 
-/// @brief Meshes plus their flightplans and scale-derived tolerances.
+/// @brief How the flightplans of one mesh are built.
+enum class FlightplanKind {
+    /// @brief Every authored sample is a breakpoint (what the contract is about).
+    RawSamples,
+    /// @brief Collinear samples merge (cheaper; a candidate filter with slack).
+    MergedSamples,
+    /// @brief Not needed by this check: no flightplans are built.
+    Unused,
+};
+
+/// @brief Factor from a flightplan's merge deviation (infinity norm, per
+///        vertex) to the Euclidean distance by which any point of a triangle
+///        may have moved off its sampled trajectory: sqrt(3), rounded up.
+constexpr double MERGE_DEVIATION_TO_DISTANCE = 2.0;
+
+/// @brief Meshes plus their flightplans and the slack merging introduced.
 struct Scene {
-    /// @brief Builds flightplans for every mesh (merging collinear segments when asked).
+    /// @brief Builds flightplans for every mesh, merging collinear segments when asked.
     Scene(const std::vector<MeshAnimation>& meshes, bool merge_collinear);
+
+    /// @brief Builds flightplans of the given kind per mesh (kinds.size() == meshes.size()).
+    Scene(const std::vector<MeshAnimation>& meshes, const std::vector<FlightplanKind>& kinds);
 
     const std::vector<MeshAnimation>& meshes;
     std::vector<Flightplans> plans;
-    /// @brief Largest absolute coordinate of the scene (scene units), at least 1.
-    double scale = 1.0;
-    /// @brief Largest distance (scene units, infinity norm) by which merging
-    ///        collinear segments moved any vertex of any mesh off its samples.
-    double merge_deviation = 0.0;
 
-    /// @brief The contact distance the narrow phase must use so that merged
-    ///        flightplans never hide a contact of the sampled ones: two
-    ///        primitives may each have moved by sqrt(3) * merge_deviation.
-    double contact_distance(double thickness) const { return thickness + 4.0 * merge_deviation; }
+    /// @brief Largest distance (scene units, infinity norm) by which merging
+    ///        moved a vertex of mesh `mesh` off its samples; 0 for raw samples.
+    double merge_deviation(int32_t mesh) const { return merge_deviation_[mesh]; }
+
+    /// @brief True when some mesh's flightplans differ from its raw samples.
+    bool any_merged() const;
+
+    /// @brief The contact distance (scene units) the narrow phase uses for a
+    ///        triangle of mesh_a against one of mesh_b, so that merged
+    ///        flightplans never hide a contact of the sampled ones. The slack
+    ///        is local to the two meshes: a curved mesh elsewhere adds nothing.
+    double contact_distance(int32_t mesh_a, int32_t mesh_b, double thickness) const {
+        return thickness + MERGE_DEVIATION_TO_DISTANCE * (merge_deviation_[mesh_a] + merge_deviation_[mesh_b]);
+    }
 
     /// @brief Positions of triangle `tri` of mesh `mesh` at time code t.
     std::array<Vec3, 3> triangle_at(int32_t mesh, int32_t tri, double t) const;
+
+private:
+    std::vector<double> merge_deviation_;
 };
-
-/// @brief Relative (to Scene::scale) slack by which a kinetic certificate lets
-///        one vertex overtake another before it fails; boxes grow by the
-///        accumulated slack so nothing is missed.
-constexpr double KINETIC_ORDER_TOLERANCE = 1e-12;
-
-/// @brief Relative (to Scene::scale) padding added to every box overlap test on
-///        top of the thickness, covering rounding in box evaluation.
-constexpr double BOX_PADDING = 1e-10;
 
 } // namespace usdksl

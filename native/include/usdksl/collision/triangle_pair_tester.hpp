@@ -24,6 +24,9 @@ struct PairStep {
 
 /// @brief Tests triangle pairs and records each pair's first contact. Every
 ///        method goes through it, so equal inputs give equal contact times.
+///        The thickness of `settings` is the user's; each pair is tested at
+///        the scene's contact distance for its two meshes (thickness plus the
+///        local slack of merged flightplans).
 class TrianglePairTester {
 public:
     TrianglePairTester(const Scene& scene, const CCDSettings& settings, Counters& counters);
@@ -48,6 +51,7 @@ public:
     std::vector<Contact> sorted_contacts() const;
 
 private:
+    CCDSettings settings_for(int32_t mesh_a, int32_t mesh_b) const;
     uint64_t key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
     void record(Contact contact);
 

@@ -22,7 +22,9 @@ public:
     /// @brief Builds the flightplans of `mesh`. With `merge_collinear`, a
     ///        breakpoint is dropped when the vertex passes through it on a
     ///        straight line at constant speed, within
-    ///        FLIGHTPLAN_COLLINEAR_TOLERANCE times the scene scale.
+    ///        FLIGHTPLAN_COLLINEAR_TOLERANCE times the largest absolute
+    ///        coordinate of the samples that merge (local to the vertex and to
+    ///        that stretch of time).
     Flightplans(const MeshAnimation& mesh, bool merge_collinear);
 
     int32_t vertex_count() const { return static_cast<int32_t>(offsets_.size()) - 1; }
@@ -62,6 +64,11 @@ public:
     /// @brief Largest absolute coordinate over every breakpoint (scene units).
     double max_abs_coordinate() const { return max_abs_coordinate_; }
 
+    /// @brief Largest absolute coordinate vertex v reaches over its whole
+    ///        flightplan (scene units): the size that rounding-error bounds of
+    ///        anything computed from v's positions scale with.
+    double vertex_magnitude(int32_t v) const { return vertex_magnitude_[v]; }
+
     /// @brief Largest distance (infinity norm, scene units) between a dropped
     ///        sample and the merged flightplan; 0 when nothing merged.
     double merge_deviation() const { return merge_deviation_; }
@@ -76,6 +83,7 @@ private:
     mutable std::vector<int64_t> segment_hint_;
     std::vector<double> key_times_;
     std::vector<double> key_points_;
+    std::vector<double> vertex_magnitude_;
     double max_abs_coordinate_ = 0.0;
     double merge_deviation_ = 0.0;
 };

@@ -21,13 +21,13 @@ inline bool slot_is_max(int slot) { return (slot & 1) != 0; }
 ///        (node, slot) proves that the stored vertex stays extreme among the
 ///        node's candidates (its triangle's vertices for a leaf, its children's
 ///        extreme vertices otherwise); it fails when a candidate overtakes the
-///        stored vertex by more than `order_tolerance` scene units.
+///        stored vertex by more than KINETIC_ORDER_TOLERANCE times the larger
+///        magnitude of the two vertices (scene units).
 class KineticAabbTree {
 public:
     /// @brief Builds the topology on the triangles' centroids at time code
     ///        t_build and picks every extreme vertex at that time.
-    KineticAabbTree(const Flightplans& plans, const std::vector<Triangle>& triangles, double t_build,
-                    double order_tolerance);
+    KineticAabbTree(const Flightplans& plans, const std::vector<Triangle>& triangles, double t_build);
 
     const BvhTopology& topology() const { return topology_; }
     const Flightplans& plans() const { return *plans_; }
@@ -35,9 +35,10 @@ public:
     /// @brief Vertex that is extreme for (node, slot).
     int32_t extreme(int32_t node, int slot) const { return extreme_[node * BOX_SLOTS + slot]; }
 
-    /// @brief Lower bound of the scene units by which a stored box may be too
-    ///        small (certificate slack accumulated over the tree's depth).
-    double box_slack() const { return order_tolerance_ * (topology_.max_depth + 2); }
+    /// @brief Scene units by which the stored box of `node` may be too small
+    ///        (certificate slack accumulated over the levels below it) plus the
+    ///        rounding padding of its sides; local to the vertices under it.
+    double box_margin(int32_t node) const { return box_margin_[node]; }
 
     /// @brief Time code (> t, never late) at which the certificate of (node,
     ///        slot) fails or must be re-checked; +inf when not before t_limit.
@@ -60,7 +61,7 @@ private:
     const std::vector<Triangle>* triangles_;
     BvhTopology topology_;
     std::vector<int32_t> extreme_;
-    double order_tolerance_;
+    std::vector<double> box_margin_;
 };
 
 /// @brief Pieces of flightplan a certificate or overlap search walks before

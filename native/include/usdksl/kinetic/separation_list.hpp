@@ -59,6 +59,9 @@ private:
     bool both_leaves(const List& list, int32_t a, int32_t b) const;
 
     // Kinetic geometry
+    /// Scene units two boxes grow by before they count as overlapping: the
+    /// pair's contact distance plus each box's own slack and padding.
+    double margin_of(const List& list, int32_t a, int32_t b) const;
     void box_gaps(const List& list, int32_t a, int32_t b, AxisGap gaps[6]) const;
     bool overlaps(const List& list, int32_t a, int32_t b, double t);
     double separation_time(const List& list, int32_t a, int32_t b, double t);
@@ -92,7 +95,7 @@ private:
     std::vector<List> lists_;
     std::vector<Entry> entries_;
     std::vector<int32_t> free_entries_;
-    std::vector<double> margin_;  // per list: thickness + slack of both trees + padding
+    std::vector<double> margin_;  // per list: contact distance of its two meshes
     EventQueue queue_;
     std::vector<int32_t> pending_reschedule_;
     std::vector<uint32_t> reschedule_stamp_;
