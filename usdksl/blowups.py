@@ -1,0 +1,101 @@
+"""Simulation blow-ups: vertices that jump far beyond their mesh's size between two samples.
+
+Cloth solvers blow up: a vertex shoots off for a frame or two and comes back. The check goes on
+(the contacts such a vertex causes are real contacts on the cache and are reported like any other;
+the core's tolerances are local, so the rest of the shot costs and answers the same), but the
+user is told where the cache is broken.
+
+Detection, per deforming mesh and per pair of consecutive samples (numpy over vertices, Python
+over samples only):
+
+* the mesh's common motion over the step is the per-axis median of its vertices' displacements
+  (a rigidly translating mesh has no excess anywhere);
+* a vertex's excess is the length of its displacement minus that common motion;
+* the mesh's size is the median, over its samples, of the diagonal of its bounding box (a
+  blown-up sample cannot inflate it);
+* a vertex blows up on that step when its excess exceeds :data:`BLOWUP_SIZE_FACTOR` times the
+  mesh's size. Any rigid motion moves a vertex by at most twice the size relative to the median
+  (a half turn), so rigid or ordinary deformation never reaches the threshold.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import List, Sequence
+
+import numpy as np
+
+#: A vertex whose motion between two samples, beyond its mesh's common motion, exceeds this many
+#: times the mesh's size (median bounding-box diagonal) is reported as a blow-up.
+BLOWUP_SIZE_FACTOR = 10.0
+
+#: At most this many blown-up vertices are named per mesh; the rest are counted.
+BLOWUP_VERTICES_NAMED_PER_MESH = 5
+
+
+@dataclass(frozen=True)
+class Blowup:
+    """One vertex that jumps between two consecutive samples (time codes) of its mesh."""
+
+    prim: str
+    vertex: int
+    time_before: float
+    time_after: float
+    excess: float       # scene units moved beyond the mesh's common motion
+    mesh_size: float    # median bounding-box diagonal of the mesh, scene units
+
+
+def mesh_size(points: np.ndarray) -> float:
+    """Median over samples of the bounding-box diagonal of float[K, N, 3] points (scene units)."""
+    diagonals = np.linalg.norm(points.max(axis=1) - points.min(axis=1), axis=1)
+    return float(np.median(diagonals))
+
+
+def find_blowups(prim: str, times: np.ndarray, points: np.ndarray) -> List[Blowup]:
+    """Every (vertex, step) of one mesh whose excess motion exceeds the threshold, in time order."""
+    if points.shape[0] < 2 or points.shape[1] == 0:
+        return []
+    size = mesh_size(points)
+    threshold = BLOWUP_SIZE_FACTOR * size
+    found: List[Blowup] = []
+    for k in range(points.shape[0] - 1):
+        step = points[k + 1] - points[k]
+        excess = np.linalg.norm(step - np.median(step, axis=0), axis=1)
+        for vertex in np.flatnonzero(excess > threshold):
+            found.append(Blowup(prim=prim, vertex=int(vertex), time_before=float(times[k]),
+                                time_after=float(times[k + 1]), excess=float(excess[vertex]), mesh_size=size))
+    return found
+
+
+def shot_blowups(meshes: Sequence) -> List[Blowup]:
+    """Blow-ups of every deforming mesh of a loaded shot (MeshData with path, kind, times, points)."""
+    found: List[Blowup] = []
+    for mesh in meshes:
+        if getattr(mesh, "kind", "deforming") == "deforming":
+            found.extend(find_blowups(mesh.path, mesh.times, mesh.points))
+    return found
+
+
+def describe_blowups(blowups: Sequence[Blowup], file: str) -> List[str]:
+    """One warning line per blown-up vertex (a vertex's consecutive steps joined), at most
+    BLOWUP_VERTICES_NAMED_PER_MESH per mesh plus one line counting the rest."""
+    lines: List[str] = []
+    by_vertex = {}
+    for blowup in blowups:
+        by_vertex.setdefault((blowup.prim, blowup.vertex), []).append(blowup)
+    named_per_prim = {}
+    hidden_per_prim = {}
+    for (prim, vertex), steps in by_vertex.items():
+        if named_per_prim.get(prim, 0) >= BLOWUP_VERTICES_NAMED_PER_MESH:
+            hidden_per_prim[prim] = hidden_per_prim.get(prim, 0) + 1
+            continue
+        named_per_prim[prim] = named_per_prim.get(prim, 0) + 1
+        worst = max(steps, key=lambda s: s.excess)
+        lines.append(
+            f"{file}: {prim}: vertex {vertex} blows up between time {steps[0].time_before:g} and "
+            f"{steps[-1].time_after:g}: it moves {worst.excess:.3g} units beyond the mesh's motion, "
+            f"{worst.excess / worst.mesh_size:.3g}x the mesh's size ({worst.mesh_size:.3g}); "
+            f"contacts it causes are reported like any others")
+    for prim, hidden in hidden_per_prim.items():
+        lines.append(f"{file}: {prim}: {hidden} more vertices blow up (first {BLOWUP_VERTICES_NAMED_PER_MESH} named)")
+    return lines
