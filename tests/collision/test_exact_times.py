@@ -245,3 +245,24 @@ def test_check_equals_a_tight_brute_force_reference_on_a_per_frame_cloth():
     assert set(found) == set(reference), (sorted(set(reference) - set(found))[:5], sorted(set(found) - set(reference))[:5])
     worst = max(abs(found[key] - reference[key]) for key in reference)
     assert worst <= REFERENCE_TIME_SLACK, worst
+
+
+def triangle_pair_times(result):
+    return {(int(ma), int(ta), int(mb), int(tb)): float(t)
+            for t, ma, ta, mb, tb in zip(result.time, result.mesh_a, result.tri_a, result.mesh_b, result.tri_b)}
+
+
+@pytest.mark.parametrize("shot", ["per-frame cloth", "resting", "rotating"])
+def test_every_continuous_method_reports_bit_identical_times(shot):
+    # Every reported time is computed on the same raw sample interval with the pair the same way
+    # round, whatever method found the candidate: the answers are equal, not merely close.
+    meshes, pairs, thickness = {
+        "per-frame cloth": lambda: (per_frame_cloth(), [(0, 0), (0, 1)], 0.0),
+        "resting": lambda: (resting_shot(0.01)[0], [(0, 1)], 0.01),
+        "rotating": lambda: (rotating_blade_shot()[0], [(0, 1)], 0.0),
+    }[shot]()
+    answers = {method: triangle_pair_times(find_contacts(meshes, pairs, method=method, thickness=thickness))
+               for method in ("brute", "ksl", "swept")}
+    assert answers["brute"], "the shot must have contacts"
+    assert answers["ksl"] == answers["brute"]
+    assert answers["swept"] == answers["brute"]

@@ -7,8 +7,13 @@
 namespace usdksl {
 namespace {
 
-bool has_slack(const Scene& scene, const Contact& c) {
-    return scene.merge_deviation(c.mesh_a) > 0.0 || scene.merge_deviation(c.mesh_b) > 0.0;
+/// A contact of meshes whose flightplans kept every sample already is a raw
+/// answer; any dropped sample (even one exactly on its chord) changes the steps
+/// the narrow phase saw, so the time is recomputed on the raw intervals. Every
+/// reported time then comes from the same raw steps whatever the method or
+/// time window, which keeps answers byte-identical across them.
+bool needs_confirmation(const Scene& scene, const Contact& c) {
+    return scene.merged(c.mesh_a) || scene.merged(c.mesh_b);
 }
 
 /// Tests one triangle pair on the raw samples from time code `from` on; the
@@ -32,7 +37,7 @@ std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const 
     std::vector<FlightplanKind> kinds(candidate_scene.meshes.size(), FlightplanKind::Unused);
     std::vector<Contact> confirmed;
     for (const Contact& c : candidates) {
-        if (has_slack(candidate_scene, c)) {
+        if (needs_confirmation(candidate_scene, c)) {
             kinds[c.mesh_a] = kinds[c.mesh_b] = FlightplanKind::RawSamples;
         } else {
             confirmed.push_back(c);
@@ -43,7 +48,7 @@ std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const 
     const Scene raw_scene(candidate_scene.meshes, kinds);
     TrianglePairTester raw(raw_scene, settings, counters);
     for (const Contact& c : candidates) {
-        if (!has_slack(candidate_scene, c)) continue;
+        if (!needs_confirmation(candidate_scene, c)) continue;
         ++counters.raw_confirmations;
         first_raw_contact(raw, c, c.time, t_begin, t_end);
     }

@@ -31,10 +31,6 @@ Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<Flig
     }
 }
 
-bool Scene::any_merged() const {
-    return std::any_of(merge_deviation_.begin(), merge_deviation_.end(), [](double d) { return d > 0.0; });
-}
-
 std::array<Vec3, 3> Scene::triangle_at(int32_t mesh, int32_t tri, double t) const {
     const Triangle& ids = meshes[mesh].triangles[tri];
     const Flightplans& p = plans[mesh];

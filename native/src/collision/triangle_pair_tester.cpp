@@ -15,6 +15,16 @@ TrianglePairTester::TrianglePairTester(const Scene& scene, const CCDSettings& se
     }
 }
 
+void TrianglePairTester::canonical_order(int32_t& mesh_a, int32_t& tri_a, int32_t& mesh_b, int32_t& tri_b) {
+    // Inter pairs mesh_a < mesh_b, self pairs tri_a < tri_b. The narrow phase
+    // then always sees a pair the same way round: its answer (a lower bound
+    // within the tolerance) depends on the order it tries primitives in.
+    if (mesh_a > mesh_b || (mesh_a == mesh_b && tri_a > tri_b)) {
+        std::swap(mesh_a, mesh_b);
+        std::swap(tri_a, tri_b);
+    }
+}
+
 CCDSettings TrianglePairTester::settings_for(int32_t mesh_a, int32_t mesh_b) const {
     CCDSettings settings = settings_;
     settings.thickness = scene_.contact_distance(mesh_a, mesh_b, settings_.thickness);
@@ -65,6 +75,7 @@ bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b
                                    const PairStep& step) {
     if (!step.valid()) return false;
     ++counters_.narrow_phase_tests;
+    canonical_order(mesh_a, tri_a, mesh_b, tri_b);
     const std::array<Vec3, 3> a0 = scene_.triangle_at(mesh_a, tri_a, step.begin);
     const std::array<Vec3, 3> a1 = scene_.triangle_at(mesh_a, tri_a, step.end);
     const std::array<Vec3, 3> b0 = scene_.triangle_at(mesh_b, tri_b, step.begin);
@@ -89,6 +100,7 @@ bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b
 
 bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t) {
     ++counters_.narrow_phase_tests;
+    canonical_order(mesh_a, tri_a, mesh_b, tri_b);
     const bool hit = triangle_pair_intersect_static(
         scene_.meshes[mesh_a].triangles[tri_a], scene_.triangle_at(mesh_a, tri_a, t),
         scene_.meshes[mesh_b].triangles[tri_b], scene_.triangle_at(mesh_b, tri_b, t), mesh_a == mesh_b,
@@ -105,14 +117,7 @@ bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh
     return true;
 }
 
-void TrianglePairTester::record(Contact contact) {
-    // Canonical order: inter pairs mesh_a < mesh_b, self pairs tri_a < tri_b.
-    if (contact.mesh_a > contact.mesh_b || (contact.mesh_a == contact.mesh_b && contact.tri_a > contact.tri_b)) {
-        std::swap(contact.mesh_a, contact.mesh_b);
-        std::swap(contact.tri_a, contact.tri_b);
-        if (contact.feature == ContactFeature::VertexFace) contact.feature = ContactFeature::FaceVertex;
-        else if (contact.feature == ContactFeature::FaceVertex) contact.feature = ContactFeature::VertexFace;
-    }
+void TrianglePairTester::record(const Contact& contact) {
     const uint64_t k = key(contact.mesh_a, contact.tri_a, contact.mesh_b, contact.tri_b);
     auto it = found_.find(k);
     if (it == found_.end()) {

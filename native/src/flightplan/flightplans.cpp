@@ -105,6 +105,7 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
         offsets_.push_back(static_cast<int64_t>(key_times_.size()));
         max_abs_coordinate_ = std::max(max_abs_coordinate_, vertex_magnitude_[v]);
     }
+    merged_ = key_times_.size() < static_cast<size_t>(n) * static_cast<size_t>(sample_count);
     segment_hint_.assign(offsets_.begin(), offsets_.end() - 1);
 }
 

@@ -13,14 +13,14 @@
 
 namespace usdksl {
 
-/// @brief Re-tests every candidate whose meshes carry merge slack on the raw
+/// @brief Re-tests every candidate whose meshes' flightplans dropped samples on the raw
 ///        samples, with `settings.thickness` alone, from the raw sample
 ///        interval that holds the candidate's time to `t_end` (time codes).
 ///        A candidate's time never comes after its raw first contact (the
 ///        slack only makes contact earlier), so the first raw contact found
 ///        from there is the pair's first contact; a candidate that never
-///        touches on the raw samples is dropped. Candidates of meshes without
-///        slack are already raw answers and pass unchanged.
+///        touches on the raw samples is dropped. Candidates of meshes whose
+///        flightplans kept every sample are already raw answers and pass unchanged.
 /// @return The confirmed contacts sorted by contact_before.
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,

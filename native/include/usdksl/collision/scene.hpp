@@ -41,8 +41,9 @@ struct Scene {
     ///        moved a vertex of mesh `mesh` off its samples; 0 for raw samples.
     double merge_deviation(int32_t mesh) const { return merge_deviation_[mesh]; }
 
-    /// @brief True when some mesh's flightplans differ from its raw samples.
-    bool any_merged() const;
+    /// @brief True when mesh `mesh`'s flightplans dropped samples, so its
+    ///        contacts are candidates to confirm on the raw samples.
+    bool merged(int32_t mesh) const { return plans[mesh].merged(); }
 
     /// @brief The contact distance (scene units) the narrow phase uses for a
     ///        triangle of mesh_a against one of mesh_b, so that merged

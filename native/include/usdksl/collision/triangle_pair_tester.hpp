@@ -51,9 +51,10 @@ public:
     std::vector<Contact> sorted_contacts() const;
 
 private:
+    static void canonical_order(int32_t& mesh_a, int32_t& tri_a, int32_t& mesh_b, int32_t& tri_b);
     CCDSettings settings_for(int32_t mesh_a, int32_t mesh_b) const;
     uint64_t key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
-    void record(Contact contact);
+    void record(const Contact& contact);
 
     const Scene& scene_;
     CCDSettings settings_;

@@ -73,6 +73,10 @@ public:
     ///        sample and the merged flightplan; 0 when nothing merged.
     double merge_deviation() const { return merge_deviation_; }
 
+    /// @brief True when some sample was dropped, so steps between breakpoints
+    ///        may span several sample intervals.
+    bool merged() const { return merged_; }
+
 
 private:
     int64_t search_segment(int32_t v, double t) const;
@@ -86,6 +90,7 @@ private:
     std::vector<double> vertex_magnitude_;
     double max_abs_coordinate_ = 0.0;
     double merge_deviation_ = 0.0;
+    bool merged_ = false;
 };
 
 } // namespace usdksl
