@@ -126,8 +126,7 @@ int64_t Flightplans::search_segment(int32_t v, double t) const {
     return static_cast<int64_t>(it - key_times_.begin()) - 1;
 }
 
-Vec3 Flightplans::position(int32_t v, double t) const {
-    const int64_t k = segment_of(v, t);
+Vec3 Flightplans::position_in_segment(int32_t v, int64_t k, double t) const {
     const Eigen::Map<const Vec3> p0(&key_points_[3 * k]);
     if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return p0;
     const Eigen::Map<const Vec3> p1(&key_points_[3 * (k + 1)]);

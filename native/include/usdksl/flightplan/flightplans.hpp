@@ -56,7 +56,20 @@ public:
     }
 
     /// @brief Position of vertex v at time code t.
-    Vec3 position(int32_t v, double t) const;
+    Vec3 position(int32_t v, double t) const { return position_in_segment(v, segment_of(v, t), t); }
+
+    /// @brief Position of vertex v at time code t, given the segment k that
+    ///        contains t (as segment_of(v, t) returns it); bit-identical to position().
+    Vec3 position_in_segment(int32_t v, int64_t k, double t) const;
+
+    /// @brief Moves segment index k of vertex v forward to the segment that
+    ///        contains time code t (as segment_of(v, t) would return it), for
+    ///        callers that walk forward in time with their own cursor. k must
+    ///        be a segment of v at or before t's.
+    int64_t advance_segment(int32_t v, int64_t k, double t) const {
+        while (k + 1 < offsets_[v + 1] && key_times_[k + 1] <= t) ++k;
+        return k;
+    }
 
     /// @brief Earliest breakpoint of v strictly after time code t (+inf when none).
     double next_breakpoint(int32_t v, double t) const;
