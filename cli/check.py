@@ -52,7 +52,7 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
               time_range: Optional[Tuple[float, float]] = None, prims: Sequence[str] = (),
               exclude: Sequence[str] = (), include_guides: bool = False, include_invisible: bool = False,
               json_path: Optional[str] = None, junit_path: Optional[str] = None,
-              crosscheck: bool = False, echo=None, stdout=None) -> CheckResult:
+              crosscheck: bool = False, echo=None, stdout=None, threads: Optional[int] = None) -> CheckResult:
     """The whole command without click: raises UsdkslInputError / UsdkslUsageError on bad input."""
     echo = echo or (lambda text: click.echo(text, err=True))
     started = time.monotonic()
@@ -99,7 +99,7 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
     try:
         for (segment_range, segment), segment_plan in zip(segments, plans):
             tables.append(_check_segment(segment, segment_plan, segment_range, method, tolerance, thickness,
-                                         progress, sum(t.count for t in tables), echo))
+                                         progress, sum(t.count for t in tables), echo, threads))
     finally:
         progress.close()
     if not plan.checked_pairs:
@@ -176,14 +176,15 @@ def _load_segments(shot, time_range, predicate, echo):
             for segment_range in ranges]
 
 
-def _check_segment(segment, plan, segment_range, method, tolerance, thickness, progress, contacts_before, echo):
+def _check_segment(segment, plan, segment_range, method, tolerance, thickness, progress, contacts_before, echo,
+                   threads=None):
     paths = [mesh.path for mesh in segment.meshes]
     if not plan.checked_pairs:
         return ContactTable.empty(paths)
     from ..collision import find_contacts
 
     result = find_contacts(segment.meshes, plan.pairs, method=method, time_range=segment_range,
-                           tolerance=tolerance, thickness=thickness,
+                           tolerance=tolerance, thickness=thickness, threads=threads,
                            progress=lambda reached, count: progress(reached, contacts_before + count))
     undecided = int(np.count_nonzero(result.undecided)) if hasattr(result, "undecided") else 0
     if undecided:
@@ -225,8 +226,11 @@ def _check_segment(segment, plan, segment_range, method, tolerance, thickness, p
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
               help="Also write a JUnit XML report: one testsuite per shot, one testcase per checked pair.")
+@click.option("--threads", type=click.IntRange(min=1), default=None,
+              help="Threads for the check (default: every core this process may use); results are identical "
+                   "for any count.")
 def check(shot, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, json_path, junit_path):
+          include_guides, include_invisible, crosscheck, json_path, junit_path, threads):
     """Find the first contacts in SHOT and write them to CSV and to a USD override layer.
 
     Exit code 0: clean; 1: contacts found; 2: usage or input error (no output written). The plan, warnings
@@ -237,7 +241,7 @@ def check(shot, out, method, tolerance, thickness, self_check, inter_check, time
                            self_check=self_check, inter_check=inter_check, time_range=time_range,
                            prims=prims, exclude=exclude, include_guides=include_guides,
                            include_invisible=include_invisible, json_path=json_path, junit_path=junit_path,
-                           crosscheck=crosscheck)
+                           crosscheck=crosscheck, threads=threads)
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)
         sys.exit(error.exit_code)

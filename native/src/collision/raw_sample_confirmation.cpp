@@ -31,31 +31,45 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
 
 } // namespace
 
-std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
-                                            const CCDSettings& settings, double t_begin, double t_end,
-                                            Counters& counters) {
-    std::vector<FlightplanKind> kinds(candidate_scene.meshes.size(), FlightplanKind::Unused);
-    std::vector<Contact> confirmed;
+void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Contact>& candidates,
+                            std::vector<FlightplanKind>& kinds) {
+    kinds.resize(candidate_scene.meshes.size(), FlightplanKind::Unused);
     for (const Contact& c : candidates) {
-        if (needs_confirmation(candidate_scene, c)) {
-            kinds[c.mesh_a] = kinds[c.mesh_b] = FlightplanKind::RawSamples;
-        } else {
-            confirmed.push_back(c);
-        }
+        if (needs_confirmation(candidate_scene, c)) kinds[c.mesh_a] = kinds[c.mesh_b] = FlightplanKind::RawSamples;
     }
-    if (confirmed.size() == candidates.size()) return confirmed;
+}
 
-    const Scene raw_scene(candidate_scene.meshes, kinds);
+std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const Scene& raw_scene,
+                                            const std::vector<Contact>& candidates, const CCDSettings& settings,
+                                            double t_begin, double t_end, Counters& counters) {
+    std::vector<Contact> confirmed;
     TrianglePairTester raw(raw_scene, settings, counters);
+    int64_t confirmations = 0;
     for (const Contact& c : candidates) {
-        if (!needs_confirmation(candidate_scene, c)) continue;
-        ++counters.raw_confirmations;
+        if (!needs_confirmation(candidate_scene, c)) {
+            confirmed.push_back(c);
+            continue;
+        }
+        ++confirmations;
         first_raw_contact(raw, c, c.time, t_begin, t_end);
     }
-    counters.raw_rejections = counters.raw_confirmations - static_cast<int64_t>(raw.contacts().size());
+    counters.raw_confirmations += confirmations;
+    counters.raw_rejections += confirmations - static_cast<int64_t>(raw.contacts().size());
     confirmed.insert(confirmed.end(), raw.contacts().begin(), raw.contacts().end());
     std::sort(confirmed.begin(), confirmed.end(), contact_before);
     return confirmed;
+}
+
+std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
+                                            const CCDSettings& settings, double t_begin, double t_end,
+                                            Counters& counters) {
+    std::vector<FlightplanKind> kinds;
+    mark_meshes_to_confirm(candidate_scene, candidates, kinds);
+    if (std::all_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k == FlightplanKind::Unused; })) {
+        return candidates;
+    }
+    const Scene raw_scene(candidate_scene.meshes, kinds);
+    return confirm_on_raw_samples(candidate_scene, raw_scene, candidates, settings, t_begin, t_end, counters);
 }
 
 } // namespace usdksl

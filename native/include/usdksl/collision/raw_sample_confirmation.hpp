@@ -26,4 +26,15 @@ std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const 
                                             const CCDSettings& settings, double t_begin, double t_end,
                                             Counters& counters);
 
+/// @brief Marks (as RawSamples in `kinds`, sized to the scene's meshes) every
+///        mesh that a candidate needing confirmation involves.
+void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Contact>& candidates,
+                            std::vector<FlightplanKind>& kinds);
+
+/// @brief As above, on a raw scene built beforehand with (at least) the kinds
+///        mark_meshes_to_confirm asks for; `raw_scene` may be a per-thread copy.
+std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const Scene& raw_scene,
+                                            const std::vector<Contact>& candidates, const CCDSettings& settings,
+                                            double t_begin, double t_end, Counters& counters);
+
 } // namespace usdksl
