@@ -242,7 +242,7 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
     kind, substeps = METHODS[label]
     record: Dict = {"label": label}
     if kind == "read":
-        from usdksl.loader import load_shot
+        from usdksl.reading.loader import load_shot
         rss_before = _proc_status_bytes("VmRSS") or 0
         _reset_peak_rss()
         start, cpu_start = time.perf_counter(), time.process_time()
@@ -267,7 +267,7 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
         np.savez(out_prefix + ".npz", time=np.zeros(0))
         return record
 
-    from usdksl.loader import load_shot
+    from usdksl.reading.loader import load_shot
     load_start = time.perf_counter()
     shot = load_shot(shot_path)
     record["load_s"] = time.perf_counter() - load_start
@@ -284,7 +284,7 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
                  sample_times=np.asarray(shot.times, np.float64))
         return record
 
-    from usdksl.collision import find_contacts
+    from usdksl.checking.collision import find_contacts
     pairs = benchmark_pairs([m.kind for m in shot.meshes])
     start, cpu_start = time.perf_counter(), time.process_time()
     result = find_contacts(shot.meshes, pairs, method=kind, discrete_substeps=max(substeps, 1))
@@ -317,7 +317,7 @@ def describe_shot(path: str, scene: str = "", size: Optional[int] = None,
                   samples_per_keyframe: Optional[int] = None) -> ShotInfo:
     """Sizes of a shot; scene, size and sampling default to those in a samples/generate.py file name."""
     import re
-    from usdksl.loader import load_shot
+    from usdksl.reading.loader import load_shot
     named = re.fullmatch(r"([a-z]+)_(\d+)_k\d+_s(\d+)", os.path.splitext(os.path.basename(path))[0])
     if named and not scene:
         scene, size, samples_per_keyframe = named.group(1), int(named.group(2)), int(named.group(3))

@@ -18,16 +18,16 @@ import click
 import numpy as np
 
 from .. import __version__
-from ..crosscheck import crosscheck_csv_path, crosscheck_shot
+from ..crosscheck.shot import crosscheck_csv_path, crosscheck_shot
 from ..errors import UsdkslInputError, UsdkslUsageError
-from ..interpolation import reject_spline_motion
-from ..loader import load_shot, mesh_prims, open_stage
-from ..output import OutputTransaction, check_writable_directory, resolve_output_path
-from ..override import build_override_layer, shot_stem
-from ..progress import Progress
-from ..reports import ContactTable, json_report, junit_report, summary_line
-from ..scope import ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
-from ..segments import full_range, is_topology_change, split_range, topology_gaps
+from ..reading.interpolation import reject_spline_motion
+from ..reading.loader import load_shot, mesh_prims, open_stage
+from ..reports.output import OutputTransaction, check_writable_directory, resolve_output_path
+from ..reports.override import build_override_layer, shot_stem
+from ..checking.progress import Progress
+from ..reports.formats import ContactTable, json_report, junit_report, summary_line
+from ..reading.scope import ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
+from ..reading.segments import full_range, is_topology_change, split_range, topology_gaps
 from .options import parse_time_range
 
 METHODS = ("ksl", "swept", "discrete", "brute")
@@ -180,7 +180,7 @@ def _check_segment(segment, plan, segment_range, method, tolerance, thickness, p
     paths = [mesh.path for mesh in segment.meshes]
     if not plan.checked_pairs:
         return ContactTable.empty(paths)
-    from ..collision import find_contacts
+    from ..checking.collision import find_contacts
 
     result = find_contacts(segment.meshes, plan.pairs, method=method, time_range=segment_range,
                            tolerance=tolerance, thickness=thickness,

@@ -8,9 +8,9 @@ from importlib.metadata import PackageNotFoundError, version
 
 from . import _native  # noqa: F401  (private; wrapped by the modules below)
 from . import ccd
-from .collision import CollisionResult, FaceContacts, find_contacts
+from .checking.collision import CollisionResult, FaceContacts, find_contacts
 from .errors import UsdkslInputError, UsdkslUsageError
-from .loader import MeshData, Shot, load_shot
+from .reading.loader import MeshData, Shot, load_shot
 
 try:
     __version__ = version("usdksl")

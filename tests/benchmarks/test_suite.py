@@ -6,7 +6,7 @@ import numpy as np
 from click.testing import CliRunner
 
 import report
-from usdksl.collision import DEFAULT_TOLERANCE
+from usdksl.checking.collision import DEFAULT_TOLERANCE
 import run
 
 

@@ -15,10 +15,10 @@ from click.testing import CliRunner
 from pxr import Ts, Usd, UsdGeom, Vt
 
 from usdksl.cli.main import main
-from usdksl.collision import find_contacts
-from usdksl.loader import load_shot
-from usdksl.reports import ContactTable
-from usdksl.scope import plan_shot
+from usdksl.checking.collision import find_contacts
+from usdksl.reading.loader import load_shot
+from usdksl.reports.formats import ContactTable
+from usdksl.reading.scope import plan_shot
 
 from .stages import (QUAD_POINTS, STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, falling_quad_samples,
                      new_stage, sha256, snapshot)

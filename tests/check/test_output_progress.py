@@ -6,8 +6,8 @@ import stat
 import pytest
 
 from usdksl.errors import UsdkslUsageError
-from usdksl.output import OutputTransaction, check_writable_directory
-from usdksl.progress import Progress, progress_enabled
+from usdksl.reports.output import OutputTransaction, check_writable_directory
+from usdksl.checking.progress import Progress, progress_enabled
 
 from .stages import snapshot
 

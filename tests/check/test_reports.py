@@ -7,9 +7,9 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from usdksl.collision import FaceContacts
-from usdksl.reports import ContactTable, format_times, json_report, junit_report, summary_line
-from usdksl.scope import SceneFlags, plan_pairs
+from usdksl.checking.collision import FaceContacts
+from usdksl.reports.formats import ContactTable, format_times, json_report, junit_report, summary_line
+from usdksl.reading.scope import SceneFlags, plan_pairs
 
 
 def contacts(rows):

@@ -3,9 +3,9 @@
 import numpy as np
 from pxr import Sdf, UsdGeom, UsdPhysics
 
-from usdksl import scope
-from usdksl.loader import load_shot
-from usdksl.scope import (PAIR_CHECK_INTER, PAIR_CHECK_SELF, PAIR_COLLISION_GROUP, PAIR_FILTERED,
+from usdksl.reading import scope
+from usdksl.reading.loader import load_shot
+from usdksl.reading.scope import (PAIR_CHECK_INTER, PAIR_CHECK_SELF, PAIR_COLLISION_GROUP, PAIR_FILTERED,
                           PAIR_INTER_DISABLED_BY_OPTION, PAIR_MESH_SKIPPED, PAIR_SELF_DISABLED_BY_ATTRIBUTE,
                           PAIR_SELF_DISABLED_BY_OPTION, PAIR_SELF_RIGID, PAIR_SELF_STATIC, PAIR_STATIC_STATIC,
                           ScopeOptions, SceneFlags, plan_pairs, plan_shot)

@@ -1,7 +1,7 @@
 """Splitting the checked range at topology changes."""
 
 from usdksl.errors import UsdkslInputError
-from usdksl.segments import is_topology_change, split_range
+from usdksl.reading.segments import is_topology_change, split_range
 
 
 def test_split_range_drops_the_open_gaps():

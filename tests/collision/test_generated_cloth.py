@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from usdksl.collision import find_contacts
-from usdksl.loader import load_shot
-from usdksl.scope import plan_shot
+from usdksl.checking.collision import find_contacts
+from usdksl.reading.loader import load_shot
+from usdksl.reading.scope import plan_shot
 
 from .test_methods_agree import contacts_by_pair
 

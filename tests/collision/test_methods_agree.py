@@ -10,7 +10,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 from usdksl import _native
-from usdksl.collision import find_contacts
+from usdksl.checking.collision import find_contacts
 
 from .animations import animated, folding_sheet, grid, sheets_passing, tunnelling_triangle
 

@@ -3,7 +3,7 @@
 import numpy as np
 from pxr import Usd, UsdGeom, Vt
 
-from usdksl.segment_crossing import segments_cross_triangles
+from usdksl.crosscheck.segment_crossing import segments_cross_triangles
 
 
 def grid_sheet(size, count, z=0.0, origin=(0.0, 0.0)):

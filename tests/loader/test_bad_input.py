@@ -7,7 +7,7 @@ import pytest
 from pxr import Usd, UsdGeom
 
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
-from usdksl.loader import load_shot
+from usdksl.reading.loader import load_shot
 from usd_builders import file_digest, quad_grid, write_mesh
 
 POINTS, COUNTS, INDICES = quad_grid(2, 2)

@@ -3,7 +3,7 @@
 from click.testing import CliRunner
 
 from usdksl.cli.main import main
-from usdksl.loader import load_shot
+from usdksl.reading.loader import load_shot
 from usd_builders import file_digest
 
 

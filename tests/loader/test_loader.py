@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from pxr import Gf, Usd, UsdGeom
 
-from usdksl.loader import load_shot, topology_segments
-from usdksl.triangulate import fan_triangulate
+from usdksl.reading.loader import load_shot, topology_segments
+from usdksl.reading.triangulate import fan_triangulate
 from usd_builders import quad_grid, reference_world_points, write_mesh
 
 

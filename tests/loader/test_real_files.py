@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from pxr import Usd, UsdGeom
 
-from usdksl.loader import load_shot
+from usdksl.reading.loader import load_shot
 
 OPENUSD_FILES = ["openusd_testUsdSkelBakeSkinning_lbs.baked.usda",
                  "openusd_testUsdSkelBakeSkinning_blendshapes.baked.usda"]

@@ -12,7 +12,7 @@ import tempfile
 from pathlib import Path
 from typing import Dict, List, Optional, Union
 
-from .errors import UsdkslUsageError
+from ..errors import UsdkslUsageError
 
 TEMP_PREFIX = ".usdksl-tmp-"
 _FILE_MODE = 0o666

@@ -12,7 +12,7 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import _native
+from .. import _native
 
 METHODS = ("ksl", "swept", "discrete", "brute")
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from typing import Iterable, Optional, Tuple
 
-from .errors import UsdkslInputError
+from ..errors import UsdkslInputError
 
 
 def _knot_summary(spline) -> Tuple[Optional[float], str]:

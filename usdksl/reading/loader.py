@@ -24,7 +24,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 from pxr import Tf, Usd, UsdGeom
 
-from .errors import UsdkslInputError, UsdkslUsageError
+from ..errors import UsdkslInputError, UsdkslUsageError
 from .triangulate import fan_triangulate
 
 STATIC = "static"

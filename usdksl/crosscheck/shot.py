@@ -26,7 +26,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from .embree_frames import FrameTopology, intersecting_triangle_pairs
-from .errors import UsdkslInputError, UsdkslUsageError
+from ..errors import UsdkslInputError, UsdkslUsageError
 
 CROSSCHECK_HEADER = ("time", "prim_a", "face_a", "prim_b", "face_b")
 CONTACTS_REQUIRED_COLUMNS = ("time", "prim_a", "face_a", "prim_b", "face_b")
@@ -129,7 +129,7 @@ def scoped_mesh_pairs(shot, time_range=None):
     :func:`default_mesh_pairs`."""
     if getattr(shot, "stage", None) is None:
         return default_mesh_pairs(shot.meshes)
-    from .scope import plan_shot
+    from ..reading.scope import plan_shot
     return [tuple(pair) for pair in np.asarray(plan_shot(shot, time_range=time_range).pairs).tolist()]
 
 
@@ -431,7 +431,7 @@ def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=Non
         pairs = scoped_mesh_pairs(shot, time_range)
     if contacts is None:
         try:
-            from .collision import find_contacts
+            from ..checking.collision import find_contacts
         except ImportError:
             raise UsdkslUsageError("the continuous check is not available in this build; "
                                    "give a contacts.csv with --contacts") from None

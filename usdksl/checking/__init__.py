@@ -1,0 +1,1 @@
+"""Checking: first contacts of a loaded shot, found by the native core."""

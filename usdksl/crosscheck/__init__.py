@@ -1,0 +1,1 @@
+"""Cross-check: static frames intersected with Embree, held against the continuous result."""
