@@ -20,8 +20,8 @@ from usdksl.reading.loader import load_shot
 from usdksl.reports.formats import ContactTable
 from usdksl.reading.scope import plan_shot
 
-from .stages import (QUAD_POINTS, STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, falling_quad_samples,
-                     new_stage, sha256, snapshot)
+from builders import (QUAD_POINTS, STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, falling_quad_samples,
+                      fifty_mesh_scene, new_stage, sha256, snapshot)
 
 SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 SAMPLE_EXIT_CODES = {"drape": 1, "fold": 1, "pass_through": 1, "clean": 0}
@@ -417,10 +417,9 @@ def test_points_count_change_is_checked_per_segment(tmp_path):
 
 
 def test_fifty_mesh_plan_is_printed_with_its_counter(tmp_path):
-    from .test_scope import _fifty_mesh_scene
 
     path = tmp_path / "fifty.usda"
-    _fifty_mesh_scene(path)
+    fifty_mesh_scene(path)
     junit = tmp_path / "junit.xml"
     result = run([path, "--out", tmp_path / "out", "--junit", junit])
     assert result.exit_code == 1, result.stderr          # the falling cloth passes through M00

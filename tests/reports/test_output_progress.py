@@ -9,7 +9,7 @@ from usdksl.errors import UsdkslUsageError
 from usdksl.reports.output import OutputTransaction, check_writable_directory
 from usdksl.checking.progress import Progress, progress_enabled
 
-from .stages import snapshot
+from builders import snapshot
 
 
 def test_transaction_publishes_all_files_with_normal_modes(tmp_path):

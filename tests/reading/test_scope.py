@@ -10,7 +10,7 @@ from usdksl.reading.scope import (PAIR_CHECK_INTER, PAIR_CHECK_SELF, PAIR_COLLIS
                           PAIR_SELF_DISABLED_BY_OPTION, PAIR_SELF_RIGID, PAIR_SELF_STATIC, PAIR_STATIC_STATIC,
                           ScopeOptions, SceneFlags, plan_pairs, plan_shot)
 
-from .stages import QUAD_POINTS, add_mesh, falling_quad_samples, new_stage
+from builders import QUAD_POINTS, add_mesh, falling_quad_samples, fifty_mesh_scene, new_stage
 
 
 def pairs_of(plan):
@@ -95,22 +95,9 @@ def test_patterns():
     assert predicate.rejected == ["/World/Cloth", "/Other"]
 
 
-def _fifty_mesh_scene(path):
-    stage = new_stage(path)
-    for k in range(48):
-        add_mesh(stage, f"/World/Static/M{k:02d}", QUAD_POINTS + [3.0 * k, 0, 0])
-    add_mesh(stage, "/World/Anim/Cloth", None, samples=falling_quad_samples())
-    rigid = UsdGeom.Xform.Define(stage, "/World/Anim/Mover")
-    op = rigid.AddTranslateOp()
-    op.Set((0.0, 0.0, 0.0), 1.0)
-    op.Set((5.0, 0.0, 0.0), 24.0)
-    add_mesh(stage, "/World/Anim/Mover/Box", QUAD_POINTS + [0, 2.0, 0])
-    stage.GetRootLayer().Save()
-
-
 def test_fifty_meshes_two_animated_checks_only_pairs_that_can_change(tmp_path):
     path = tmp_path / "fifty.usda"
-    _fifty_mesh_scene(path)
+    fifty_mesh_scene(path)
     shot = load_shot(str(path))
     plan = plan_shot(shot)
     assert plan.mesh_count == 50

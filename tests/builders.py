@@ -60,3 +60,17 @@ def snapshot(directory) -> dict:
     """{relative path: sha256} of every file below directory (to prove nothing was written)."""
     directory = Path(directory)
     return {str(p.relative_to(directory)): sha256(p) for p in sorted(directory.rglob("*")) if p.is_file()}
+
+
+def fifty_mesh_scene(path):
+    """48 static quads, a falling cloth quad and a rigidly moving box under /World/Anim."""
+    stage = new_stage(path)
+    for k in range(48):
+        add_mesh(stage, f"/World/Static/M{k:02d}", QUAD_POINTS + [3.0 * k, 0, 0])
+    add_mesh(stage, "/World/Anim/Cloth", None, samples=falling_quad_samples())
+    rigid = UsdGeom.Xform.Define(stage, "/World/Anim/Mover")
+    op = rigid.AddTranslateOp()
+    op.Set((0.0, 0.0, 0.0), 1.0)
+    op.Set((5.0, 0.0, 0.0), 24.0)
+    add_mesh(stage, "/World/Anim/Mover/Box", QUAD_POINTS + [0, 2.0, 0])
+    stage.GetRootLayer().Save()

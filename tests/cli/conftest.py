@@ -2,7 +2,7 @@
 
 import pytest
 
-from .stages import add_mesh, falling_quad_samples, new_stage, QUAD_POINTS
+from builders import add_mesh, falling_quad_samples, new_stage, QUAD_POINTS
 
 
 @pytest.fixture

@@ -10,7 +10,7 @@ from usdksl.reading.loader import load_shot
 from usdksl.reports.override import build_override_layer, face_first_contact_times, relative_sublayer_path
 from usdksl.reports.formats import ContactTable
 
-from .stages import STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, new_stage, sha256
+from builders import STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, new_stage, sha256
 from .test_reports import contacts
 
 

@@ -4,7 +4,7 @@ from click.testing import CliRunner
 
 from usdksl.cli.main import main
 from usdksl.reading.loader import load_shot
-from usd_builders import file_digest
+from builders import sha256 as file_digest
 
 
 def run(*args):
