@@ -1,7 +1,7 @@
 """Values USD does not interpolate from time samples: what "Held interpolation" means for a cache.
 
 usdksl's flightplans are linear between the time samples of ``points`` and of the xformOps above a mesh
-(DESIGN.md, Semantics). A file can make USD evaluate motion some other way:
+(docs/contracts.md, Motion). A file can make USD evaluate motion some other way:
 
 * **Spline-valued xformOps** (USD >= 24: ``float xformOp:rotateY.spline = { 0: 0; post held, 10: 90 }``):
   the attribute has no time samples at all, so a reader that merges time samples sees a mesh that never

@@ -7,7 +7,7 @@ Two layers:
 * :func:`plan_pairs` is a pure function of those flags, the meshes' motion and the user's options; it
   works on N x N boolean matrices (no loop over pairs) and is tested without a stage or the core.
 
-Rules (DESIGN.md, Semantics), in the order a skipped pair is explained:
+Rules (docs/contracts.md, What is checked), in the order a skipped pair is explained:
 
 1. A skipped mesh takes all its pairs with it. Meshes are skipped when ``--prims`` / ``--exclude``
    leave them out, when ``physics:collisionEnabled`` is false on the mesh, when their computed purpose

@@ -24,7 +24,7 @@ import numpy as np
 CONTACT_COLUMNS = ("time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature")
 SUMMARY_COLUMNS = ("prim_a", "prim_b", "kind", "first_contact_time", "face_pairs")
 
-# Feature codes of the core (CONTRACTS.md): what touched first.
+# Feature codes of the core (docs/contracts.md, Contacts): what touched first.
 FEATURE_NAMES = ("vertex-face", "face-vertex", "edge-edge", "initial")
 FEATURE_VERTEX_FACE = 0
 FEATURE_FACE_VERTEX = 1

@@ -2,8 +2,8 @@
 
 The layer sublayers the input by a relative path (so the pair of files can move together) and copies the
 input's stage metadata (timeCodesPerSecond, framesPerSecond, start/end time codes, upAxis,
-metersPerUnit, defaultPrim): without them the sublayered cache's samples would be rescaled (DESIGN.md,
-Known traps). It only authors ``over`` opinions; the input file is never opened for writing.
+metersPerUnit, defaultPrim): without them the sublayered cache's samples would be rescaled (docs/contracts.md,
+Outputs). It only authors ``over`` opinions; the input file is never opened for writing.
 
 Per checked mesh it authors:
 
