@@ -254,12 +254,14 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
         np.savez(out_prefix + ".npz", time=np.zeros(0))
         return record
     if kind == "check":
-        from usdksl.cli.check import run_check
+        from usdksl.checking.pipeline import check_shot, output_targets
+        from usdksl.reports.output import write_files
         with tempfile.TemporaryDirectory(prefix="usdksl-bench-") as out_dir:
             rss_before = _proc_status_bytes("VmRSS") or 0
             _reset_peak_rss()
             start, cpu_start = time.perf_counter(), time.process_time()
-            result = run_check(shot_path, out=out_dir, echo=lambda *a, **k: None)
+            result = check_shot(shot_path, targets=output_targets(shot_path, out_dir))
+            write_files(result.files)
             record["wall_s"] = time.perf_counter() - start
             record["cpu_s"] = time.process_time() - cpu_start
             record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before

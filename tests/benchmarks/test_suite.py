@@ -6,7 +6,7 @@ import numpy as np
 from click.testing import CliRunner
 
 import report
-from usdksl.checking.collision import DEFAULT_TOLERANCE
+from usdksl.ccd import DEFAULT_TOLERANCE
 import run
 
 

@@ -17,7 +17,8 @@ from pxr import Ts, Usd, UsdGeom, Vt
 from usdksl.cli.main import main
 from usdksl.checking.collision import find_contacts
 from usdksl.reading.loader import load_shot
-from usdksl.reports.formats import ContactTable
+from usdksl.contacts import ContactTable
+from usdksl.reports.formats import contacts_csv
 from usdksl.reading.scope import plan_shot
 
 from builders import (QUAD_POINTS, STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, falling_quad_samples,
@@ -72,7 +73,7 @@ def test_samples_contacts_equal_the_brute_force_reference(sample, tmp_path):
     reference = find_contacts(shot.meshes, plan.pairs, method="brute")
     expected = ContactTable.from_face_contacts(reference.face_contacts(shot.meshes), [m.path for m in shot.meshes])
     ours = _csv_rows((tmp_path / f"{name}.contacts.csv").read_text())
-    theirs = _csv_rows(expected.contacts_csv())
+    theirs = _csv_rows(contacts_csv(expected))
     # Same face pairs, kinds and features; brute force reads the raw samples while KSL
     # merges collinear flightplan segments, so times agree within the CCD tolerance of a step.
     assert sorted(ours) == sorted(theirs)

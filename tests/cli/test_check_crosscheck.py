@@ -5,7 +5,8 @@ import dataclasses
 import numpy as np
 from click.testing import CliRunner
 
-from usdksl.cli import check as check_module
+from usdksl import exit_codes
+from usdksl.checking import pipeline
 from usdksl.cli.main import main
 
 
@@ -35,7 +36,7 @@ def test_crosscheck_flag_exits_3_when_a_contact_is_missing(samples_dir, tmp_path
     assert first.exit_code == 1, first.output
     seen = (tmp_path / "a" / "drape.crosscheck.csv").read_text().splitlines()[1]
     _, prim_a, face_a, prim_b, face_b = seen.split(",")
-    original = check_module._check_segment
+    original = pipeline.check_segment
 
     def drop_that_contact(*args, **kwargs):
         table = original(*args, **kwargs)
@@ -49,9 +50,9 @@ def test_crosscheck_flag_exits_3_when_a_contact_is_missing(samples_dir, tmp_path
                 fields[name] = value[keep]
         return type(table)(**fields)
 
-    monkeypatch.setattr(check_module, "_check_segment", drop_that_contact)
+    monkeypatch.setattr(pipeline, "check_segment", drop_that_contact)
     result = _run(["check", str(samples_dir / "drape.usda"), "--out", str(tmp_path / "b"), "--crosscheck"])
-    assert result.exit_code == check_module.CROSSCHECK_DISAGREES == 3, result.output
+    assert result.exit_code == exit_codes.CROSSCHECK_DISAGREES == 3, result.output
     assert f"{prim_a}" in result.output and "error" in result.output
 
 

@@ -7,15 +7,15 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from usdksl.checking.collision import FaceContacts
-from usdksl.reports.formats import ContactTable, format_times, json_report, junit_report, summary_line
+from usdksl.contacts import ContactTable
+from usdksl.reports.formats import contacts_csv, format_times, json_report, junit_report, summary_csv, summary_line
 from usdksl.reading.scope import SceneFlags, plan_pairs
 
 
 def contacts(rows):
     columns = list(zip(*rows)) if rows else [[]] * 6
-    return FaceContacts(np.array(columns[0], float), *(np.array(c, np.int32) for c in columns[1:5]),
-                            np.array(columns[5], np.int8))
+    return ContactTable(None, np.array(columns[0], float), *(np.array(c, np.int32) for c in columns[1:5]),
+                        np.array(columns[5], np.int8))
 
 
 # mesh 0 is "/Z/Cloth", mesh 1 is "/A/Box": index order differs from string order on purpose
@@ -30,7 +30,7 @@ def test_prim_order_face_order_sorting_and_dedup():
         (0.5, 1, 3, 0, 7, 1),      # the same face pair as row 1, earlier: kept, row 1 dropped
         (1.0, 1, 0, 0, 2, 3),
     ]), PATHS)
-    rows = list(csv.reader(io.StringIO(table.contacts_csv())))
+    rows = list(csv.reader(io.StringIO(contacts_csv(table))))
     assert rows[0] == ["time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature"]
     assert rows[1:] == [
         ["0.5", "/A/Box", "3", "/Z/Cloth", "7", "inter", "face-vertex"],
@@ -55,7 +55,7 @@ def test_times_are_repr_exact_and_round_trip():
 def test_summary_rows():
     table = ContactTable.from_face_contacts(contacts([
         (3.0, 0, 1, 1, 1, 2), (2.0, 0, 2, 1, 2, 2), (5.0, 0, 1, 0, 5, 2), (4.0, 1, 4, 0, 4, 2)]), PATHS)
-    rows = list(csv.reader(io.StringIO(table.summary_csv())))
+    rows = list(csv.reader(io.StringIO(summary_csv(table))))
     assert rows == [["prim_a", "prim_b", "kind", "first_contact_time", "face_pairs"],
                     ["/A/Box", "/Z/Cloth", "inter", "2.0", "3"],
                     ["/Z/Cloth", "/Z/Cloth", "self", "5.0", "1"]]
@@ -63,22 +63,22 @@ def test_summary_rows():
 
 def test_empty_table_has_headers_only():
     table = ContactTable.from_face_contacts(contacts([]), PATHS)
-    assert table.contacts_csv() == "time,prim_a,face_a,prim_b,face_b,kind,feature\n"
-    assert table.summary_csv() == "prim_a,prim_b,kind,first_contact_time,face_pairs\n"
+    assert contacts_csv(table) == "time,prim_a,face_a,prim_b,face_b,kind,feature\n"
+    assert summary_csv(table) == "prim_a,prim_b,kind,first_contact_time,face_pairs\n"
 
 
 def test_large_table_is_deterministic_and_sorted():
     rng = np.random.default_rng(7)
     count = 100_000
-    raw = FaceContacts(np.round(rng.uniform(0, 48, count), 3), rng.integers(0, 3, count).astype(np.int32),
+    raw = ContactTable(None, np.round(rng.uniform(0, 48, count), 3), rng.integers(0, 3, count).astype(np.int32),
                            rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 3, count).astype(np.int32),
                            rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 4, count).astype(np.int8))
     paths = ["/c", "/a", "/b"]
-    first = ContactTable.from_face_contacts(raw, paths).contacts_csv()
+    first = contacts_csv(ContactTable.from_face_contacts(raw, paths))
     permutation = rng.permutation(count)
-    shuffled = FaceContacts(*(getattr(raw, name)[permutation] for name in
+    shuffled = ContactTable(None, *(getattr(raw, name)[permutation] for name in
                                   ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
-    second = ContactTable.from_face_contacts(shuffled, paths).contacts_csv()
+    second = contacts_csv(ContactTable.from_face_contacts(shuffled, paths))
     # the same face pair at the same time with different features can appear; ties break on feature
     assert first == second
     rows = list(csv.reader(io.StringIO(first)))[1:]

@@ -18,20 +18,21 @@ from __future__ import annotations
 import csv
 import io
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from .embree_frames import FrameTopology, intersecting_triangle_pairs
 from ..errors import UsdkslInputError, UsdkslUsageError
+from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
+from ..reading.loader import DEFORMING, STATIC
+from ..reports.output import write_text_atomic
+from ..reports.override import shot_stem
+from .embree_frames import FrameTopology, intersecting_triangle_pairs
 
 CROSSCHECK_HEADER = ("time", "prim_a", "face_a", "prim_b", "face_b")
 CONTACTS_REQUIRED_COLUMNS = ("time", "prim_a", "face_a", "prim_b", "face_b")
-STATIC_KIND = "static"
-DEFORMING_KIND = "deforming"
 
 
 # --------------------------------------------------------------------------- frames
@@ -114,10 +115,10 @@ def default_mesh_pairs(meshes) -> List[Tuple[int, int]]:
     that never move (static), and self pairs of deforming meshes only."""
     pairs = []
     for i, first in enumerate(meshes):
-        if first.kind == DEFORMING_KIND:
+        if first.kind == DEFORMING:
             pairs.append((i, i))
         for j in range(i + 1, len(meshes)):
-            if first.kind == STATIC_KIND and meshes[j].kind == STATIC_KIND:
+            if first.kind == STATIC and meshes[j].kind == STATIC:
                 continue
             pairs.append((i, j))
     return pairs
@@ -315,8 +316,8 @@ class CrosscheckResult:
     def exit_code(self) -> int:
         """3 on disagreement, else 1 when the contacts hold any contact, else 0."""
         if not self.consistent:
-            return 3
-        return 1 if self.contacts_checked else 0
+            return CROSSCHECK_DISAGREES
+        return CONTACTS_FOUND if self.contacts_checked else CLEAN
 
     def csv_text(self) -> str:
         buffer = io.StringIO()
@@ -451,28 +452,8 @@ def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=Non
 
 def crosscheck_csv_path(shot_path: Union[str, os.PathLike], out_dir: Union[None, str, os.PathLike] = None) -> Path:
     """``<out_dir>/<stem>.crosscheck.csv``; ``out_dir`` defaults to the shot's folder."""
-    shot_path = Path(shot_path)
-    folder = Path(out_dir) if out_dir is not None else shot_path.parent
-    return folder / f"{shot_path.stem}.crosscheck.csv"
-
-
-def write_text_atomic(target: Union[str, os.PathLike], text: str) -> Path:
-    """Write ``text`` to a temporary file beside ``target`` and rename it into place."""
-    target = Path(target)
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        handle, temp_name = tempfile.mkstemp(prefix=".usdksl-tmp-", suffix=".part", dir=str(target.parent))
-    except OSError as error:
-        raise UsdkslUsageError(f"cannot write output: {error.strerror}", file=str(target)) from None
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-            stream.write(text)
-        os.replace(temp_name, target)
-    except OSError as error:
-        if os.path.exists(temp_name):
-            os.unlink(temp_name)
-        raise UsdkslUsageError(f"cannot write output: {error.strerror}", file=str(target)) from None
-    return target
+    folder = Path(out_dir) if out_dir is not None else Path(shot_path).parent
+    return folder / f"{shot_stem(shot_path)}.crosscheck.csv"
 
 
 def write_crosscheck_csv(result: CrosscheckResult, target: Union[str, os.PathLike]) -> Path:

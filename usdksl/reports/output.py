@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 import tempfile
 from pathlib import Path
-from typing import Dict, List, Optional, Union
+from typing import Dict, List, Mapping, Optional, Union
 
 from ..errors import UsdkslUsageError
 
@@ -140,3 +140,17 @@ def resolve_output_path(value: Optional[str]) -> Optional[Path]:
     if value is None or value == "-":
         return None
     return Path(value)
+
+
+def write_files(files: Mapping[Union[str, Path], str]) -> List[Path]:
+    """Publish every ``{target: text}`` together (one :class:`OutputTransaction`), in the given order;
+    returns the targets written. Raises UsdkslUsageError naming a target that could not be written."""
+    transaction = OutputTransaction()
+    for target, text in files.items():
+        transaction.write_text(target, text)
+    return transaction.commit()
+
+
+def write_text_atomic(target: Union[str, Path], text: str) -> Path:
+    """Write one file the all-or-nothing way."""
+    return write_files({target: text})[0]
