@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from usdksl import _native
 from usdksl.checking.collision import find_contacts
 
-from .animations import animated, folding_sheet, grid, sheets_passing, tunnelling_triangle
+from builders import animated, folding_sheet, sheets_passing, triangle_grid, tunnelling_triangle
 
 TOLERANCE = 1e-6
 
@@ -74,7 +74,7 @@ def test_tunnelling_triangle_found_by_continuous_methods_and_missed_by_discrete(
 
 def test_resting_flat_sheet_has_no_self_contact():
     # Adjacent triangles share vertices and edges: shared primitives are never tested.
-    verts, tris = grid(5, 5)
+    verts, tris = triangle_grid(5, 5)
     moving = [verts + [0.0, 0.0, 0.1 * k] for k in range(4)]
     sheet = animated(np.arange(4.0), moving, tris)
     for method in ("ksl", "swept", "brute", "discrete"):

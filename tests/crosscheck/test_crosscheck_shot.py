@@ -13,7 +13,7 @@ from usdksl.crosscheck.shot import (ContactList, crosscheck_shot, default_mesh_p
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.reading.loader import load_shot
 
-from crosscheck_helpers import grid_sheet
+from builders import grid_sheet
 
 QUAD = [0, 1, 2, 3]
 

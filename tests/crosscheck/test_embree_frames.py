@@ -5,7 +5,7 @@ import pytest
 
 import usdksl.crosscheck.embree_frames as embree_frames
 from usdksl.crosscheck.embree_frames import FrameTopology, intersecting_triangle_pairs
-from crosscheck_helpers import brute_force_pairs
+from brute_force import brute_force_pairs
 
 
 def found_pairs(result):

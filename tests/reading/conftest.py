@@ -2,7 +2,7 @@
 
 import pytest
 
-from usd_builders import new_stage
+from builders import bare_stage
 
 
 @pytest.fixture
@@ -10,7 +10,7 @@ def build(tmp_path):
     """build(name, fill) -> path: a new stage, fill(stage) authors it, then it is saved."""
     def make(name, fill):
         path = tmp_path / name
-        stage = new_stage(path)
+        stage = bare_stage(path)
         fill(stage)
         stage.GetRootLayer().Save()
         return str(path)

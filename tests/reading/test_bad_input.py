@@ -8,7 +8,7 @@ from pxr import Usd, UsdGeom
 
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.reading.loader import load_shot
-from usd_builders import file_digest, quad_grid, write_mesh
+from builders import quad_grid, sha256 as file_digest, write_mesh
 
 POINTS, COUNTS, INDICES = quad_grid(2, 2)
 

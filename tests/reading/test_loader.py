@@ -6,7 +6,15 @@ from pxr import Gf, Usd, UsdGeom
 
 from usdksl.reading.loader import load_shot, topology_segments
 from usdksl.reading.triangulate import fan_triangulate
-from usd_builders import quad_grid, reference_world_points, write_mesh
+from builders import quad_grid, write_mesh
+
+
+def reference_world_points(stage, prim_path, time):
+    """World points straight from pxr: points.Get(t), each transformed by Gf (tiny meshes only)."""
+    prim = stage.GetPrimAtPath(prim_path)
+    local = UsdGeom.Mesh(prim).GetPointsAttr().Get(time)
+    matrix = UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(time))
+    return np.array([list(matrix.Transform(Gf.Vec3d(p))) for p in local], dtype=np.float64)
 
 
 def polygon_area(points, loop):
