@@ -1,12 +1,15 @@
-"""``usdksl check SHOT``: first contacts of a whole shot, written to CSV and to a USD override layer.
+"""``usdksl check SHOT [SHOT...]``: first contacts of whole shots, written to CSV and to USD override layers.
 
 Streams: stdout stays empty (or carries the JSON document with ``--json -``) so pipelines can parse it;
 the plan (what is checked and why the rest is skipped), warnings, the progress bar and the final summary
-line go to stderr. Exit codes: 0 clean, 1 contacts found, 2 usage or input error (nothing written).
+line go to stderr. With several shots (or ``--jobs`` / ``--scheduler``) each shot gets one line (and its
+warnings), then a total line. Exit codes: 0 clean, 1 contacts found, 2 usage or input error (nothing
+written for that shot), 3 the cross-check disagrees; the worst (largest) over all shots.
 """
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 
@@ -14,11 +17,12 @@ import click
 
 from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..checking.collision import METHODS
-from ..checking.pipeline import CheckOptions, check_shot, output_targets
-from ..checking.progress import Progress
+from ..checking.pipeline import ERROR, WARNING, CheckOptions, check_shot, output_targets
+from ..checking.progress import Progress, progress_enabled
 from ..errors import UsdkslInputError
 from ..exit_codes import INPUT_ERROR
 from ..reports.output import write_files
+from ..scale.batch import expand_shots, make_jobs, run_batch, run_here, total_line, worst_exit_code
 from .options import parse_time_range
 
 
@@ -27,7 +31,8 @@ def _echo(line: str) -> None:
 
 
 @click.command()
-@click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("shots", nargs=-1, required=True, metavar="SHOT [SHOT...]",
+                type=click.Path(dir_okay=False, path_type=str))
 @click.option("--out", "out", type=click.Path(path_type=str), default=None,
               help="Directory for <stem>.contacts.csv, <stem>.summary.csv, <stem>.usdksl.usda "
                    "(default: beside SHOT; created when missing).")
@@ -59,17 +64,30 @@ def _echo(line: str) -> None:
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
               help="Also write a JUnit XML report: one testsuite per shot, one testcase per checked pair.")
-def check(shot, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, json_path, junit_path):
-    """Find the first contacts in SHOT and write them to CSV and to a USD override layer.
+@click.option("--jobs", type=click.IntRange(min=1), default=None, metavar="N",
+              help="Check the shots on a local Dask cluster of N worker processes.")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
+def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
+          include_guides, include_invisible, crosscheck, json_path, junit_path, jobs, scheduler):
+    """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
-    Exit code 0: clean; 1: contacts found; 2: usage or input error (no output written). The plan, warnings
-    and the summary line go to stderr; stdout only carries --json - .
+    Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
+    error (no output written for that shot); 3: the cross-check disagrees; the worst over all shots.
+    The plan, warnings and the summary lines go to stderr; stdout only carries --json - .
     """
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
                            include_invisible=include_invisible, crosscheck=crosscheck)
+    shots = expand_shots(shots)
+    if len(shots) == 1 and jobs is None and scheduler is None:
+        _check_one(shots[0], options, out, json_path, junit_path)
+    _check_many(shots, options, out, json_path, junit_path, jobs, scheduler)
+
+
+def _check_one(shot, options, out, json_path, junit_path):
+    """One shot in this process: the plan and warnings as they come, a progress bar over the shot's time."""
     try:
         options.validate()
         targets = output_targets(shot, out, json_path, junit_path)
@@ -89,3 +107,38 @@ def check(shot, out, method, tolerance, thickness, self_check, inter_check, time
         sys.stdout.write(result.stdout)
     _echo(result.summary)
     sys.exit(result.exit_code)
+
+
+def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler):
+    """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total."""
+    from tqdm import tqdm
+
+    if jobs is not None and scheduler is not None:
+        raise click.UsageError("give --jobs or --scheduler, not both")
+    try:
+        options.validate()
+        entries = make_jobs(shots, out, json_path, junit_path)
+        if jobs is None and scheduler is None:
+            runner = run_here
+        else:
+            from ..scale.dask_runner import run_on_dask
+            runner = functools.partial(run_on_dask, workers=jobs, scheduler=scheduler)
+        bar = tqdm(total=len(entries), unit="shot", file=sys.stderr, disable=not progress_enabled(sys.stderr),
+                   leave=False)
+
+        def show(outcome):
+            for message in outcome.messages:
+                if message.level in (WARNING, ERROR):
+                    bar.write(message.line(outcome.name), file=sys.stderr)
+            bar.write(outcome.line(), file=sys.stderr)
+            bar.update(1)
+
+        try:
+            outcomes = run_batch(entries, options, runner, on_outcome=show)
+        finally:
+            bar.close()
+    except UsdkslInputError as error:
+        _echo(f"usdksl: error: {error}")
+        sys.exit(error.exit_code)
+    _echo(total_line(outcomes))
+    sys.exit(worst_exit_code(outcomes))

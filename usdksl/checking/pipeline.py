@@ -50,10 +50,10 @@ class Message:
     level: str
     text: str
 
-    def line(self) -> str:
-        """As ``usdksl check`` prints it on stderr."""
+    def line(self, shot: Optional[str] = None) -> str:
+        """As ``usdksl check`` prints it on stderr (after the shot's name when it checks several)."""
         prefix = f"{self.level}: " if self.level in (WARNING, ERROR) else ""
-        return f"usdksl: {prefix}{self.text}"
+        return f"usdksl: {shot + ': ' if shot else ''}{prefix}{self.text}"
 
 
 @dataclass(frozen=True)
@@ -169,9 +169,11 @@ ProgressFactory = Callable[[float, float], Callable[[float, int], None]]
 
 def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optional[OutputTargets] = None,
                on_message: Optional[Callable[[Message], None]] = None,
-               progress: Optional[ProgressFactory] = None) -> CheckResult:
+               progress: Optional[ProgressFactory] = None, name: Optional[str] = None) -> CheckResult:
     """Check ``shot`` (a USD file) and render its reports; write nothing.
 
+    ``name`` is how reports and messages name the shot (default: ``shot``; a Dask worker reads an absolute
+    path but names the shot as the user gave it).
     ``targets`` says where the files would go (default: beside the shot, no JSON or JUnit); it only
     names them (the override layer sublayers the shot by a path relative to its folder). ``on_message``
     receives each plan line and warning as it is known (they are also in ``result.messages``).
@@ -179,6 +181,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     with an optional ``close()``). Raises UsdkslInputError / UsdkslUsageError on bad input.
     """
     started = time.monotonic()
+    name = name or shot
     options.validate()
     targets = targets or OutputTargets(out_dir=Path(shot).resolve().parent)
     messages: List[Message] = []
@@ -191,13 +194,13 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
 
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
-    segments = load_segments(shot, options.time_range, predicate, say)
+    segments = load_segments(shot, options.time_range, predicate, say, name)
     loaded = segments[0][1]
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
                          include_guides=options.include_guides, include_invisible=options.include_invisible)
     plans = []
     for segment_range, segment in segments:
-        reject_spline_motion(segment.stage, [mesh.path for mesh in segment.meshes], file=shot)
+        reject_spline_motion(segment.stage, [mesh.path for mesh in segment.meshes], file=name)
         segment_plan = plan_shot(segment, scope, segment_range)
         if predicate is not None:
             segment_plan.excluded_paths = list(dict.fromkeys(predicate.rejected))
@@ -245,20 +248,21 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
         segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1 else None)
     stdout = None
     if targets.json_path is not None or targets.json_to_stdout:
-        json_text = json_report(shot, options.settings(), plan, table, exit_code, version=__version__)
+        json_text = json_report(name, options.settings(), plan, table, exit_code, version=__version__)
         if targets.json_path is not None:
             files[targets.json_path] = json_text
         else:
             stdout = json_text
     if targets.junit_path is not None:
-        files[targets.junit_path] = junit_report(shot, plan, table)
-    return CheckResult(shot=shot, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
+        files[targets.junit_path] = junit_report(name, plan, table)
+    return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,
                        segments=[(r, t) for (r, _), t in zip(segments, tables)])
 
 
-def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[[str, str], None]):
+def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[[str, str], None],
+                  name: Optional[str] = None):
     """[(range, Shot)]: the whole shot, or one Shot per constant-topology stretch (usdksl.reading.segments)
     with a warning per topology change; ``range`` is None when the whole shot is checked without a
     time range."""
@@ -274,7 +278,7 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
         if not gaps or not ranges:
             raise
     for gap_start, gap_end, path in gaps:
-        say(WARNING, f"{shot}: {path}: topology changes between time {gap_start:g} and {gap_end:g}; "
+        say(WARNING, f"{name or shot}: {path}: topology changes between time {gap_start:g} and {gap_end:g}; "
                      f"that interval is not checked")
     say(WARNING, f"checking {len(ranges)} constant-topology segments: "
                  + ", ".join(f"{a:g}..{b:g}" for a, b in ranges))
