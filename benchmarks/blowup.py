@@ -21,7 +21,7 @@ from typing import Dict, List, Sequence, Tuple
 import numpy as np
 
 import usdksl
-from usdksl.blowups import describe_blowups, shot_blowups
+from usdksl.reading.blowups import describe_blowups, shot_blowups
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_SHOT = os.path.join(HERE, "..", "samples", "drape.usda")

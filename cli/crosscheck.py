@@ -4,9 +4,9 @@ import sys
 
 import click
 
-from ..crosscheck import crosscheck_csv_path, crosscheck_shot, write_crosscheck_csv
+from ..crosscheck.shot import crosscheck_csv_path, crosscheck_shot, write_crosscheck_csv
 from ..errors import UsdkslInputError
-from ..loader import load_shot
+from ..reading.loader import load_shot
 from .options import parse_time_range
 
 

@@ -5,7 +5,7 @@ import sys
 import click
 
 from ..errors import UsdkslInputError
-from ..loader import load_shot
+from ..reading.loader import load_shot
 from .options import parse_time_range
 
 
