@@ -64,12 +64,15 @@ def _echo(line: str) -> None:
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
               help="Also write a JUnit XML report: one testsuite per shot, one testcase per checked pair.")
+@click.option("--strict", is_flag=True,
+              help="Exit 2 (nothing written) when the cache has a simulation blow-up or nothing is left "
+                   "to check, instead of warning.")
 @click.option("--jobs", type=click.IntRange(min=1), default=None, metavar="N",
               help="Check the shots on a local Dask cluster of N worker processes.")
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, json_path, junit_path, jobs, scheduler):
+          include_guides, include_invisible, crosscheck, json_path, junit_path, strict, jobs, scheduler):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -79,7 +82,7 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
-                           include_invisible=include_invisible, crosscheck=crosscheck)
+                           include_invisible=include_invisible, crosscheck=crosscheck, strict=strict)
     shots = expand_shots(shots)
     if len(shots) == 1 and jobs is None and scheduler is None:
         _check_one(shots[0], options, out, json_path, junit_path)

@@ -21,6 +21,7 @@ from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..contacts import ContactTable
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
+from ..reading.blowups import describe_blowups, shot_blowups
 from ..reading.interpolation import reject_spline_motion
 from ..reading.loader import load_shot, mesh_prims, open_stage
 from ..reading.scope import Plan, ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
@@ -72,6 +73,9 @@ class CheckOptions:
     include_guides: bool = False
     include_invisible: bool = False
     crosscheck: bool = False
+    #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
+    #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
+    strict: bool = False
 
     def validate(self) -> None:
         """Raise UsdkslUsageError (exit 2) on a value the check cannot use."""
@@ -210,6 +214,9 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             say(PLAN, line.strip() if line.startswith("pairs") else line)
         plans.append(segment_plan)
     plan = merge_plans(plans)
+    report_blowups(segments, plans, name, say, options.strict)
+    if options.strict and not plan.checked_pairs:
+        raise UsdkslInputError("no mesh pair left to check (--strict)", file=name)
 
     if options.time_range is not None:
         span = options.time_range
@@ -259,6 +266,22 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,
                        segments=[(r, t) for (r, _), t in zip(segments, tables)])
+
+
+def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[str, str], None],
+                   strict: bool) -> None:
+    """Warn about vertices of checked meshes that blow up (usdksl.reading.blowups); under ``strict``
+    the first one is an input error (exit 2, nothing written)."""
+    for (_, segment), segment_plan in zip(segments, plans):
+        checked = sorted(set(segment_plan.pairs.reshape(-1).tolist()))
+        blowups = shot_blowups([segment.meshes[index] for index in checked])
+        if blowups and strict:
+            first = blowups[0]
+            raise UsdkslInputError(
+                f"vertex {first.vertex} blows up between time {first.time_before:g} and {first.time_after:g} "
+                f"({first.excess:.3g} units beyond the mesh's motion; --strict)", file=name, prim=first.prim)
+        for line in describe_blowups(blowups, name):
+            say(WARNING, line)
 
 
 def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[[str, str], None],
