@@ -199,7 +199,6 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
     segments = load_segments(shot, options.time_range, predicate, say, name)
-    loaded = segments[0][1]
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
                          include_guides=options.include_guides, include_invisible=options.include_invisible)
     plans = []

@@ -13,6 +13,7 @@ times could differ in the last bits), and chunks that split at a topology change
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import List, Sequence, Tuple
 
@@ -138,6 +139,7 @@ def _pair_rows(table: ContactTable) -> np.ndarray:
 def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> CheckResult:
     """What ``usdksl check SHOT --time-range START END`` writes, START..END the union of the chunks'
     ranges, from the chunks' outputs. Raises UsdkslUsageError (one line) when they cannot be merged."""
+    started = time.monotonic()
     chunks = read_chunks(shot, folders)
     settings = chunks[0].manifest["settings"]
     span: Tuple[float, float] = (chunks[0].start, max(chunk.end for chunk in chunks))
@@ -173,7 +175,7 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> C
     exit_code = CONTACTS_FOUND if table.count else CLEAN
     files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span)
     return CheckResult(shot=shot, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
-                       seconds=0.0, counters={}, messages=[], files=files, stdout=stdout,
+                       seconds=time.monotonic() - started, counters={}, messages=[], files=files, stdout=stdout,
                        segments=[(span, table)])
 
 
