@@ -6,6 +6,10 @@ user needs are re-exported here.
 
 from importlib.metadata import PackageNotFoundError, version
 
+from ._openusd import require_openusd
+
+require_openusd()   # one actionable line when neither usd-core nor a studio USD provides pxr
+
 from . import _native  # noqa: F401  (private; wrapped by the modules below)
 from . import ccd
 from .collision import CollisionResult, FaceContacts, find_contacts
