@@ -51,7 +51,7 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
               thickness: float = 0.0, self_check: bool = True, inter_check: bool = True,
               time_range: Optional[Tuple[float, float]] = None, prims: Sequence[str] = (),
               exclude: Sequence[str] = (), include_guides: bool = False, include_invisible: bool = False,
-              json_path: Optional[str] = None, junit_path: Optional[str] = None,
+              rigid: bool = False, json_path: Optional[str] = None, junit_path: Optional[str] = None,
               crosscheck: bool = False, echo=None, stdout=None) -> CheckResult:
     """The whole command without click: raises UsdkslInputError / UsdkslUsageError on bad input."""
     echo = echo or (lambda text: click.echo(text, err=True))
@@ -74,11 +74,14 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
     predicate = include_predicate(include, excluded) if (include or excluded) else None
     segments = _load_segments(shot, time_range, predicate, echo)
     loaded = segments[0][1]
+    for warning in dict.fromkeys(w for _, segment in segments for w in getattr(segment, "warnings", ())):
+        echo(f"usdksl: warning: {warning}")
     options = ScopeOptions(self_check=self_check, inter_check=inter_check, include=(), exclude=(),
-                           include_guides=include_guides, include_invisible=include_invisible)
+                           include_guides=include_guides, include_invisible=include_invisible, rigid=rigid)
     plans = []
     for segment_range, segment in segments:
-        reject_spline_motion(segment.stage, [mesh.path for mesh in segment.meshes], file=shot)
+        reject_spline_motion(segment.stage, list(dict.fromkeys(
+            path for mesh in segment.meshes for path in (mesh.prim_path, mesh.scene_path))), file=shot)
         segment_plan = plan_shot(segment, options, segment_range)
         if predicate is not None:
             segment_plan.excluded_paths = list(dict.fromkeys(predicate.rejected))
@@ -127,7 +130,7 @@ def run_check(shot: str, out: Optional[str] = None, method: str = "ksl", toleran
     settings = {"method": method, "tolerance": tolerance, "thickness": thickness, "self": self_check,
                 "inter": inter_check, "time_range": list(time_range) if time_range else None,
                 "prims": list(include), "exclude": list(excluded), "include_guides": include_guides,
-                "include_invisible": include_invisible}
+                "include_invisible": include_invisible, "rigid": rigid}
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
     transaction = OutputTransaction()
     transaction.write_text(out_dir / f"{stem}.contacts.csv", table.contacts_csv())
@@ -218,6 +221,9 @@ def _check_segment(segment, plan, segment_range, method, tolerance, thickness, p
 @click.option("--include-guides", is_flag=True, help="Also check meshes with purpose guide.")
 @click.option("--include-invisible", is_flag=True,
               help="Also check meshes that are invisible over the whole checked range.")
+@click.option("--rigid", is_flag=True,
+              help="Also check pairs in which neither mesh deforms (rigid against rigid or still). By default "
+                   "a pair needs a deforming mesh; the summary says how many pairs this leaves out.")
 @click.option("--crosscheck", is_flag=True,
               help="Also intersect every sample with Embree and check it against the contacts "
                    "(writes <stem>.crosscheck.csv; exit 3 when they disagree).")
@@ -226,7 +232,7 @@ def _check_segment(segment, plan, segment_range, method, tolerance, thickness, p
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
               help="Also write a JUnit XML report: one testsuite per shot, one testcase per checked pair.")
 def check(shot, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, json_path, junit_path):
+          include_guides, include_invisible, rigid, crosscheck, json_path, junit_path):
     """Find the first contacts in SHOT and write them to CSV and to a USD override layer.
 
     Exit code 0: clean; 1: contacts found; 2: usage or input error (no output written). The plan, warnings
@@ -236,7 +242,8 @@ def check(shot, out, method, tolerance, thickness, self_check, inter_check, time
         result = run_check(shot, out=out, method=method, tolerance=tolerance, thickness=thickness,
                            self_check=self_check, inter_check=inter_check, time_range=time_range,
                            prims=prims, exclude=exclude, include_guides=include_guides,
-                           include_invisible=include_invisible, json_path=json_path, junit_path=junit_path,
+                           include_invisible=include_invisible, rigid=rigid, json_path=json_path,
+                           junit_path=junit_path,
                            crosscheck=crosscheck)
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)
