@@ -202,10 +202,17 @@ class InstancedMesh:
 
     def load(self, times: np.ndarray, file: str, matrices: _MatrixCache) -> List[MeshData]:
         times = np.asarray(times, dtype=np.float64)
+        # selection first: an instancer that --prims/--exclude leaves out is not read, nor rejected
+        indices = np.asarray(self.instancer.schema.GetProtoIndicesAttr().Get(float(times[0])) or [], np.int64)
+        candidates = np.flatnonzero(indices == self.mesh.prototype_index)
+        selected = {int(i): name for i, name in (
+            (i, instance_mesh_path(self.instancer.path, i, self.mesh.relative_path)) for i in candidates.tolist())
+            if self.wanted(name)}
+        if not selected:
+            return []
         kept = self.instancer.kept_instances(times, self.mesh.prototype_index)
-        names = [instance_mesh_path(self.instancer.path, int(i), self.mesh.relative_path) for i in kept.tolist()]
-        chosen = np.array([self.wanted(name) for name in names], bool).reshape(-1)
-        kept, names = kept[chosen], [name for name, keep in zip(names, chosen) if keep]
+        kept = kept[np.isin(kept, list(selected))]
+        names = [selected[i] for i in kept.tolist()]
         if kept.size == 0:
             return []
         topology = read_topology(self.mesh.prim, times, file)

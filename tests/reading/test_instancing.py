@@ -174,3 +174,27 @@ def test_info_lists_instances_and_prims_selects_them(scatter, tmp_path):
     assert selected.exit_code == 1, selected.stderr
     assert f"check /World/Sheet x {INSTANCER}[0]/box" in selected.stderr
     assert f"{INSTANCER}[4]/box" not in selected.stderr.replace(f"skip mesh {INSTANCER}[4]/box", "")
+
+
+def test_excluding_an_instancer_skips_its_checks_too(tmp_path):
+    path = tmp_path / "swap.usda"
+    falling_instancer(path, proto_index_change=(6.0, 3, 0))   # an input error when the instancer is read
+    result = run_cli("check", path, "--out", tmp_path / "out", "--exclude", INSTANCER)
+    assert result.exit_code == 0, result.stderr
+    assert f"skip mesh {INSTANCER}[0]/box: excluded by --prims/--exclude (not loaded)" in result.stderr
+
+
+def test_nested_instancer_and_missing_prototype_are_warned_about(tmp_path):
+    path = tmp_path / "nested.usda"
+    falling_instancer(path)
+    stage = Usd.Stage.Open(str(path))
+    UsdGeom.PointInstancer.Define(stage, "/World/scatter/Prototypes/crate/pebbles")
+    relationship = UsdGeom.PointInstancer(stage.GetPrimAtPath(INSTANCER)).GetPrototypesRel()
+    relationship.AddTarget("/World/scatter/Prototypes/gone")
+    stage.GetRootLayer().Save()
+    shot = load_shot(path)
+    nested = [w for w in shot.warnings if "/World/scatter/Prototypes/crate/pebbles" in w]
+    missing = [w for w in shot.warnings if "/World/scatter/Prototypes/gone" in w]
+    assert len(nested) == 1 and "not checked" in nested[0]
+    assert len(missing) == 1 and "prototype 2" in missing[0]
+    assert {mesh.instance_index for mesh in shot.meshes if mesh.instancer} == set(INSTANCE_MESHES)
