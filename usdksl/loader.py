@@ -516,7 +516,7 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
     warnings: List[str] = []
     try:
         prims = mesh_prims(stage, include)
-        skinned = skinning.find_skinned_meshes(stage, file)
+        skinned = skinning.find_skinned_meshes(stage)
         sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
         sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings)
     except Tf.ErrorException as error:

@@ -56,6 +56,7 @@ class SkinnedMesh:
     blend_shapes: Optional[UsdSkel.BlendShapeQuery]      # None when no animated blend shape applies
     sub_shape_offsets: Optional[list] = None
     blend_shape_point_indices: Optional[list] = None
+    poseable: bool = True           # False: joint influences but a skeleton UsdSkel cannot pose (load raises)
 
     @property
     def path(self) -> str:
@@ -96,6 +97,9 @@ class SkinnedMesh:
     def load(self, times: np.ndarray, file: str, matrices: _MatrixCache) -> MeshData:
         """World-space points at ``times`` (increasing, non-empty), classified (module docstring)."""
         path = self.path
+        if not self.poseable:
+            raise UsdkslInputError(f"skinned by {self.skeleton_prim.GetPath()}, which has neither an animation "
+                                   f"nor restTransforms: UsdSkel cannot pose it", file=file, prim=path)
         times = np.asarray(times, dtype=np.float64)
         topology = read_topology(self.prim, times, file)
         points_attr = UsdGeom.Mesh(self.prim).GetPointsAttr()
@@ -163,7 +167,7 @@ def _animated_blend_shapes(skeleton_query: UsdSkel.SkeletonQuery, skinning_query
     return query, offsets, query.ComputeBlendShapePointIndices()
 
 
-def find_skinned_meshes(stage: Usd.Stage, file: str = "") -> Dict[str, SkinnedMesh]:
+def find_skinned_meshes(stage: Usd.Stage) -> Dict[str, SkinnedMesh]:
     """{mesh prim path: SkinnedMesh} for every UsdGeom.Mesh UsdSkel poses (module docstring)."""
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     cache = UsdSkel.Cache()
@@ -183,10 +187,6 @@ def find_skinned_meshes(stage: Usd.Stage, file: str = "") -> Dict[str, SkinnedMe
                 if path in found or not mesh_prim.IsA(UsdGeom.Mesh):
                     continue
                 uses_joints = skinning_query.HasJointInfluences()
-                if uses_joints and not _skeleton_is_poseable(skeleton_query):
-                    raise UsdkslInputError(
-                        f"skinned by {skeleton_query.GetPrim().GetPath()}, which has neither an animation "
-                        f"nor restTransforms: UsdSkel cannot pose it", file=file, prim=path)
                 blend = _animated_blend_shapes(skeleton_query, skinning_query, mesh_prim)
                 if not uses_joints and blend is None:
                     continue
@@ -194,5 +194,6 @@ def find_skinned_meshes(stage: Usd.Stage, file: str = "") -> Dict[str, SkinnedMe
                 found[path] = SkinnedMesh(prim=mesh_prim, skeleton_query=skeleton_query,
                                           skinning_query=skinning_query, uses_joints=uses_joints,
                                           blend_shapes=query, sub_shape_offsets=offsets,
-                                          blend_shape_point_indices=indices)
+                                          blend_shape_point_indices=indices,
+                                          poseable=not uses_joints or _skeleton_is_poseable(skeleton_query))
     return found

@@ -139,3 +139,5 @@ def test_skeleton_that_cannot_be_posed_is_an_input_error(tmp_path):
     assert result.exit_code == 2
     assert [line for line in result.stderr.splitlines() if line.startswith("usdksl: error")] == [
         f"usdksl: error: {raised.value}"]
+    excluded = run_cli("check", path, "--out", tmp_path / "out", "--exclude", names["arm"])
+    assert excluded.exit_code == 2 and "no UsdGeom.Mesh prims match" in excluded.stderr   # not the skel error
