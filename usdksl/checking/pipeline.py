@@ -73,6 +73,8 @@ class CheckOptions:
     exclude: Tuple[str, ...] = ()
     include_guides: bool = False
     include_invisible: bool = False
+    #: Also check pairs in which neither mesh deforms (rigid or still against rigid or still).
+    rigid: bool = False
     crosscheck: bool = False
     #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
     #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
@@ -98,7 +100,7 @@ class CheckOptions:
                 "self": self.self_check, "inter": self.inter_check,
                 "time_range": list(self.time_range) if self.time_range else None,
                 "prims": list(include), "exclude": list(excluded), "include_guides": self.include_guides,
-                "include_invisible": self.include_invisible}
+                "include_invisible": self.include_invisible, "rigid": self.rigid}
 
 
 @dataclass(frozen=True)
@@ -203,11 +205,15 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
     segments = load_segments(shot, options.time_range, predicate, say, name)
+    for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
+        say(WARNING, warning)
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
-                         include_guides=options.include_guides, include_invisible=options.include_invisible)
+                         include_guides=options.include_guides, include_invisible=options.include_invisible,
+                         rigid=options.rigid)
     plans = []
     for segment_range, segment in segments:
-        reject_spline_motion(segment.stage, [mesh.path for mesh in segment.meshes], file=name)
+        reject_spline_motion(segment.stage, list(dict.fromkeys(
+            path for mesh in segment.meshes for path in (mesh.prim_path, mesh.scene_path))), file=name)
         segment_plan = plan_shot(segment, scope, segment_range)
         if predicate is not None:
             segment_plan.excluded_paths = list(dict.fromkeys(predicate.rejected))

@@ -23,7 +23,7 @@ from ..checking.pipeline import CheckOptions, CheckResult, OutputTargets, load_s
 from ..contacts import ContactTable
 from ..errors import UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND
-from ..reading.loader import STATIC
+from ..reading.meshes import STATIC
 from ..reading.scope import ScopeOptions, include_predicate, plan_shot
 from ..reports.formats import read_contacts_table
 from ..reports.manifest import checked_pairs, file_sha256, manifest_name, read_manifest
