@@ -8,7 +8,7 @@ from pxr import Usd, UsdGeom
 
 from usdksl.reading.loader import load_shot
 
-from .builders import INSTANCE_DROP, falling_instancer, file_digest
+from builders import INSTANCE_DROP, falling_instancer, sha256 as file_digest
 from .conftest import run_cli
 
 INSTANCER = "/World/scatter"

@@ -6,7 +6,7 @@ from pxr import UsdUtils
 from usdksl.reading.loader import load_shot
 from usdksl.reading.layer_rates import rescaled_layers
 
-from .builders import falling_instancer, file_digest, wrapper_around_cache
+from builders import falling_instancer, sha256 as file_digest, wrapper_around_cache
 from .conftest import run_cli
 
 

@@ -4,7 +4,7 @@ import pytest
 
 from usdksl.reading.loader import load_shot
 
-from .builders import EMPTY_KINDS, file_digest, shot_with_empty_mesh
+from builders import EMPTY_KINDS, sha256 as file_digest, shot_with_empty_mesh
 from .conftest import run_cli
 
 

@@ -4,7 +4,7 @@ import numpy as np
 
 from usdksl.reading.scope import PAIR_RIGID_ONLY, PAIR_SELF_RIGID, PAIR_STATIC_STATIC, ScopeOptions, SceneFlags, plan_pairs
 
-from .builders import rigid_bodies_and_cloth
+from builders import rigid_bodies_and_cloth
 from .conftest import run_cli
 
 

@@ -8,7 +8,7 @@ from usdksl.errors import UsdkslInputError
 from usdksl.reading.loader import load_shot
 from usdksl.reading.skinning import find_skinned_meshes
 
-from .builders import baked_copy, file_digest, skinned_arm
+from builders import baked_copy, sha256 as file_digest, skinned_arm
 from .conftest import run_cli
 
 #: Largest time difference between a contact on the skinned stage and on its baked copy (time codes).
