@@ -14,9 +14,9 @@ import time
 
 import numpy as np
 
-import usdksl.embree_frames as embree_frames
-from usdksl.crosscheck import ContactList, crosscheck_shot, points_at
-from usdksl.loader import MeshData, Shot
+import usdksl.crosscheck.embree_frames as embree_frames
+from usdksl.crosscheck.shot import ContactList, crosscheck_shot, points_at
+from usdksl.reading.loader import MeshData, Shot
 
 
 def sheet_mesh(faces: int, frames: int) -> MeshData:

@@ -55,7 +55,7 @@ def measure(path: str) -> dict:
     import numpy as np  # noqa: F401
     from pxr import Usd, UsdGeom  # noqa: F401
 
-    from usdksl.loader import load_shot
+    from usdksl.reading.loader import load_shot
 
     rss_before = _current_rss_bytes()
     tracemalloc.start()

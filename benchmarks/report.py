@@ -24,7 +24,7 @@ from typing import Dict, List, Optional, Sequence
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from run import METHODS, REFERENCE, SCENE_SIZES, add_comparisons, ksl_events, ratio_rows, same_run_times  # noqa: E402
+from suite import METHODS, REFERENCE, SCENE_SIZES, add_comparisons, ksl_events, ratio_rows, same_run_times  # noqa: E402
 
 ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "discrete x8")
 SUMMARY_JSON = "bench_results.json"

@@ -33,10 +33,14 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
+
+# compare_contacts and compare_intervals are imported for scripts that reach them as run.<name>.
+from suite import (METHODS, REFERENCE, SAMPLE_BOUND_KINDS, SCENE_SIZES, add_comparisons,  # noqa: F401
+                   benchmark_pairs, compare_contacts, compare_intervals, ksl_events, ratio_rows, same_run_times)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
@@ -44,33 +48,8 @@ RESULTS = os.path.join(HERE, "results")
 RAW = os.path.join(RESULTS, "raw")
 GENERATED = os.path.join(REPO, "samples", "generated")
 
-#: Counter names of the KSL events (all event types of the kinetic trees and separation lists).
-KSL_EVENT_COUNTERS = ("kinetic_tree_events", "bv_overlap_events", "fathers_do_not_overlap_events",
-                      "leaves_do_not_overlap_events", "polygons_collide_events", "bv_change_events")
-
-#: Method label -> (kind, discrete substeps). Labels are what tables and plots show.
-METHODS: Dict[str, Tuple[str, int]] = {
-    "read": ("read", 0),
-    "ksl": ("ksl", 1),
-    "swept": ("swept", 1),
-    "discrete": ("discrete", 1),
-    "discrete x2": ("discrete", 2),
-    "discrete x4": ("discrete", 4),
-    "discrete x8": ("discrete", 8),
-    "ipctk": ("ipctk", 0),
-    "check": ("check", 0),
-}
-REFERENCE = "ksl"
 #: Names this run's raw contact files, so runs never overwrite each other's (report.py re-reads them).
 RUN_ID = time.strftime("%Y%m%d-%H%M%S") + f"-{os.getpid()}"
-
-#: Methods whose work grows with the number of samples: one that timed out at a sparser sampling of a shot is
-#: not run again at a denser one. KSL (and check, which runs it) is exempt: not growing is its point.
-SAMPLE_BOUND_KINDS = ("swept", "discrete", "ipctk")
-
-#: Scenes of samples/generate.py and the size option each takes.
-SCENE_SIZES = {"tablecloth": (2000, 4000, 8000, 16000), "swirl": (4000, 8000, 16000, 33000),
-               "character": (35000, 60000, 90000)}
 KEYFRAMES = 11
 
 
@@ -99,73 +78,6 @@ PRESETS = {
 
 
 # --------------------------------------------------------------------------- pairs and comparison
-
-def benchmark_pairs(kinds: Sequence[str]) -> List[Tuple[int, int]]:
-    """Mesh pairs to check: self for deforming meshes, inter when at least one of the two moves.
-
-    Never static-static; rigid meshes get no self pair (they cannot change shape).
-    """
-    moving = [kind != "static" for kind in kinds]
-    pairs = []
-    for i, kind in enumerate(kinds):
-        if kind == "deforming":
-            pairs.append((i, i))
-        pairs.extend((i, j) for j in range(i + 1, len(kinds)) if moving[i] or moving[j])
-    return sorted(pairs)
-
-
-def _pair_keys(contacts: Dict[str, np.ndarray]) -> np.ndarray:
-    """One int64 structured key per face pair row, for set operations."""
-    columns = [np.asarray(contacts[name], np.int64) for name in ("mesh_a", "face_a", "mesh_b", "face_b")]
-    return np.stack(columns, axis=1) if columns[0].size else np.zeros((0, 4), np.int64)
-
-
-def compare_contacts(reference: Dict[str, np.ndarray], other: Dict[str, np.ndarray]) -> Dict[str, float]:
-    """Face-pair contacts of ``other`` against ``reference`` (dicts of time, mesh_a, face_a, mesh_b, face_b).
-
-    Both hold the first contact per face pair. Returns found / missed / extra counts and the
-    absolute error of the first-contact time over the pairs both report (max and mean; NaN if none).
-    """
-    ref_keys, other_keys = _pair_keys(reference), _pair_keys(other)
-    both = np.concatenate([ref_keys, other_keys])
-    _, inverse = np.unique(both, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    ref_ids, other_ids = inverse[:len(ref_keys)], inverse[len(ref_keys):]
-    common, ref_at, other_at = np.intersect1d(ref_ids, other_ids, assume_unique=True, return_indices=True)
-    errors = np.abs(np.asarray(other["time"], np.float64)[other_at] - np.asarray(reference["time"], np.float64)[ref_at])
-    return {
-        "found": int(len(other_keys)),
-        "missed": int(len(ref_keys) - len(common)),
-        "extra": int(len(other_keys) - len(common)),
-        "time_error_max": float(errors.max()) if errors.size else float("nan"),
-        "time_error_mean": float(errors.mean()) if errors.size else float("nan"),
-    }
-
-
-def compare_intervals(reference: Dict[str, np.ndarray], interval_start: np.ndarray, interval_time: np.ndarray,
-                      sample_times: np.ndarray) -> Dict[str, float]:
-    """An earliest-contact-per-interval answer (ipctk) against the reference's contacts.
-
-    ``interval_start[k]`` indexes ``sample_times``; ``interval_time[k]`` is the contact time found there.
-    A reference contact at time t belongs to the interval [t_k, t_k+1) that contains it (the last
-    interval is closed).
-    """
-    times = np.asarray(reference["time"], np.float64)
-    interval_of = np.clip(np.searchsorted(sample_times, times, side="right") - 1, 0, len(sample_times) - 2)
-    ref_intervals = np.unique(interval_of)
-    order = np.argsort(interval_of, kind="stable")
-    earliest = np.minimum.reduceat(times[order], np.searchsorted(interval_of[order], ref_intervals)) \
-        if ref_intervals.size else np.zeros(0)
-    common, ref_at, other_at = np.intersect1d(ref_intervals, np.asarray(interval_start, np.int64),
-                                              return_indices=True)
-    errors = np.abs(np.asarray(interval_time, np.float64)[other_at] - earliest[ref_at])
-    return {
-        "found": int(len(interval_start)),
-        "missed": int(len(ref_intervals) - len(common)),
-        "extra": int(len(interval_start) - len(common)),
-        "time_error_max": float(errors.max()) if errors.size else float("nan"),
-        "time_error_mean": float(errors.mean()) if errors.size else float("nan"),
-    }
 
 
 # --------------------------------------------------------------------------- one method in a worker
@@ -242,7 +154,7 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
     kind, substeps = METHODS[label]
     record: Dict = {"label": label}
     if kind == "read":
-        from usdksl.loader import load_shot
+        from usdksl.reading.loader import load_shot
         rss_before = _proc_status_bytes("VmRSS") or 0
         _reset_peak_rss()
         start, cpu_start = time.perf_counter(), time.process_time()
@@ -254,12 +166,14 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
         np.savez(out_prefix + ".npz", time=np.zeros(0))
         return record
     if kind == "check":
-        from usdksl.cli.check import run_check
+        from usdksl.checking.pipeline import check_shot, output_targets
+        from usdksl.reports.output import write_files
         with tempfile.TemporaryDirectory(prefix="usdksl-bench-") as out_dir:
             rss_before = _proc_status_bytes("VmRSS") or 0
             _reset_peak_rss()
             start, cpu_start = time.perf_counter(), time.process_time()
-            result = run_check(shot_path, out=out_dir, echo=lambda *a, **k: None)
+            result = check_shot(shot_path, targets=output_targets(shot_path, out_dir))
+            write_files(result.files)
             record["wall_s"] = time.perf_counter() - start
             record["cpu_s"] = time.process_time() - cpu_start
             record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before
@@ -267,7 +181,7 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
         np.savez(out_prefix + ".npz", time=np.zeros(0))
         return record
 
-    from usdksl.loader import load_shot
+    from usdksl.reading.loader import load_shot
     load_start = time.perf_counter()
     shot = load_shot(shot_path)
     record["load_s"] = time.perf_counter() - load_start
@@ -284,7 +198,7 @@ def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
                  sample_times=np.asarray(shot.times, np.float64))
         return record
 
-    from usdksl.collision import find_contacts
+    from usdksl.checking.collision import find_contacts
     pairs = benchmark_pairs([m.kind for m in shot.meshes])
     start, cpu_start = time.perf_counter(), time.process_time()
     result = find_contacts(shot.meshes, pairs, method=kind, discrete_substeps=max(substeps, 1))
@@ -317,7 +231,7 @@ def describe_shot(path: str, scene: str = "", size: Optional[int] = None,
                   samples_per_keyframe: Optional[int] = None) -> ShotInfo:
     """Sizes of a shot; scene, size and sampling default to those in a samples/generate.py file name."""
     import re
-    from usdksl.loader import load_shot
+    from usdksl.reading.loader import STATIC, load_shot
     named = re.fullmatch(r"([a-z]+)_(\d+)_k\d+_s(\d+)", os.path.splitext(os.path.basename(path))[0])
     if named and not scene:
         scene, size, samples_per_keyframe = named.group(1), int(named.group(2)), int(named.group(3))
@@ -325,7 +239,7 @@ def describe_shot(path: str, scene: str = "", size: Optional[int] = None,
     return ShotInfo(path=path, scene=scene or os.path.splitext(os.path.basename(path))[0], size=size,
                     samples_per_keyframe=samples_per_keyframe,
                     triangles=int(sum(len(m.triangles) for m in shot.meshes)),
-                    moving_triangles=int(sum(len(m.triangles) for m in shot.meshes if m.kind != "static")),
+                    moving_triangles=int(sum(len(m.triangles) for m in shot.meshes if m.kind != STATIC)),
                     samples=int(len(shot.times)),
                     points_bytes=int(sum(m.points.nbytes for m in shot.meshes)))
 
@@ -359,29 +273,6 @@ def run_method(shot_path: str, label: str, budget_s: float, raw_dir: str) -> Dic
     record["process_s"] = time.perf_counter() - start
     record["contacts_file"] = prefix + ".npz"
     return record
-
-
-def _load_contacts(path: str) -> Dict[str, np.ndarray]:
-    with np.load(path) as data:
-        return {name: data[name] for name in data.files}
-
-
-def add_comparisons(records: Dict[str, Dict]) -> None:
-    """Fill contacts found/missed/extra and time errors of every method against the KSL record."""
-    reference = records.get(REFERENCE)
-    if not reference or reference.get("status") != "ok":
-        return
-    ref = _load_contacts(reference["contacts_file"])
-    for label, record in records.items():
-        if record.get("status") != "ok" or METHODS[label][0] in ("read", "check"):
-            continue
-        other = _load_contacts(record["contacts_file"])
-        if METHODS[label][0] == "ipctk":
-            record["comparison"] = compare_intervals(ref, other["interval_start"], other["time"], ref["sample_times"])
-            record["comparison"]["unit"] = "intervals"
-        else:
-            record["comparison"] = compare_contacts(ref, other)
-            record["comparison"]["unit"] = "face pairs"
 
 
 def _skip_reason(label: str, done: Dict[str, Dict], history: Dict[Tuple[str, str], int],
@@ -431,9 +322,6 @@ def run_suite(shots: Sequence[ShotInfo], methods: Sequence[str], budget_s: float
 
 # --------------------------------------------------------------------------- printing
 
-def ksl_events(counters: Dict[str, int]) -> int:
-    return int(sum(counters.get(name, 0) for name in KSL_EVENT_COUNTERS))
-
 
 def format_record(record: Dict) -> str:
     if record.get("status") != "ok":
@@ -447,39 +335,6 @@ def format_record(record: Dict) -> str:
         if "bv_tests" in counters:
             parts.append(f"bv_tests {counters['bv_tests']}  narrow {counters['narrow_phase_tests']}")
     return "  ".join(parts)
-
-
-def same_run_times(record: Dict, label: str, records: Dict[str, Dict]) -> Optional[Dict]:
-    """Times of method `label` from the run that measured `record` (kept by report.py when it merges rows of
-    several runs), else the row's own `label` record when it ran: ratios come from one run where they can."""
-    own = record.get("same_run", {}).get(label)
-    if own:
-        return own
-    other = records.get(label, {})
-    return other if other.get("status") == "ok" else None
-
-
-def ratio_rows(records: Dict[str, Dict]) -> List[Dict]:
-    """One row per method: time and memory ratios to KSL, contacts found/missed/extra, time errors."""
-    rows = []
-    for label, record in records.items():
-        row = {"method": label, "status": record.get("status"), "reason": record.get("reason", "")}
-        if record.get("status") == "ok":
-            reference = record if label == REFERENCE else same_run_times(record, REFERENCE, records) or {}
-            ref_time = reference.get("wall_s")
-            row["wall_s"] = record["wall_s"]
-            row["cpu_s"] = record.get("cpu_s")
-            ref_cpu = reference.get("cpu_s") if ref_time else None
-            row["cpu_vs_ksl"] = record["cpu_s"] / ref_cpu if ref_cpu and record.get("cpu_s") else float("nan")
-            row["time_vs_ksl"] = record["wall_s"] / ref_time if ref_time else float("nan")
-            row["peak_mib"] = record["peak_mem_bytes"] / 2**20
-            counters = record.get("counters", {})
-            row["events"] = ksl_events(counters) if METHODS[label][0] == "ksl" else None
-            row["bv_tests"] = counters.get("bv_tests")
-            row["narrow_phase_tests"] = counters.get("narrow_phase_tests")
-            row.update(record.get("comparison", {}))
-        rows.append(row)
-    return rows
 
 
 def format_ratios(records: Dict[str, Dict]) -> str:

@@ -4,9 +4,9 @@ import sys
 
 import click
 
-from ..crosscheck import crosscheck_csv_path, crosscheck_shot, write_crosscheck_csv
+from ..crosscheck.shot import crosscheck_csv_path, crosscheck_shot, write_crosscheck_csv
 from ..errors import UsdkslInputError
-from ..loader import load_shot
+from ..reading.loader import load_shot
 from .options import parse_time_range
 
 
@@ -34,6 +34,8 @@ def crosscheck(shot, frames, contacts_file, out_dir, time_range):
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)
         sys.exit(UsdkslInputError.exit_code)
+    for warning in loaded.warnings:
+        click.echo(f"usdksl: warning: {warning}", err=True)
     for line in result.error_lines():
         click.echo(f"usdksl: error: {line}", err=True)
     click.echo(result.summary_line(), err=True)

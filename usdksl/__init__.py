@@ -1,31 +1,43 @@
 """usdksl: continuous collision checking of USD animation caches.
 
 The native core lives in the private ``usdksl._native`` module; the names a
-user needs are re-exported here.
+user needs are re-exported here. The sub-packages, by topic:
+
+``usdksl.reading``     USD in: the stage as world-space arrays, and which mesh pairs are checked
+``usdksl.checking``    first contacts (the native core) and the whole check of one shot
+``usdksl.reports``     contacts.csv, summary.csv, JSON, JUnit and the override layer, written atomically
+``usdksl.crosscheck``  static frames intersected with Embree, held against the continuous result
+``usdksl.scale``       many shots, on one process or a Dask cluster, and farm chunks merged
 """
 
-from importlib.metadata import PackageNotFoundError, version
+from ._openusd import require_openusd
+
+require_openusd()   # one actionable line when neither usd-core nor a studio USD provides pxr
 
 from . import _native  # noqa: F401  (private; wrapped by the modules below)
-from . import ccd
-from .collision import CollisionResult, FaceContacts, find_contacts
+from . import ccd, errors
+from .checking.collision import CollisionResult, find_contacts
+from .checking.pipeline import CheckOptions, CheckResult, check_shot
+from .contacts import ContactTable
 from .errors import UsdkslInputError, UsdkslUsageError
-from .loader import MeshData, Shot, load_shot
-
-try:
-    __version__ = version("usdksl")
-except PackageNotFoundError:  # running from a source tree without install
-    __version__ = "0.0.0"
+from .reading.loader import MeshData, Shot, load_shot
+from .reports.output import write_files
+from .version import __version__
 
 __all__ = [
     "__version__",
     "ccd",
+    "CheckOptions",
+    "CheckResult",
+    "check_shot",
     "CollisionResult",
-    "FaceContacts",
+    "ContactTable",
+    "errors",
     "find_contacts",
     "load_shot",
     "MeshData",
     "Shot",
     "UsdkslInputError",
     "UsdkslUsageError",
+    "write_files",
 ]

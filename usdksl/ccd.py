@@ -19,14 +19,19 @@ import numpy as np
 
 from . import _native
 
+# The defaults are the native core's (native/include/usdksl/constants.hpp), read through the binding so
+# they are written once.
 #: Width (fraction of the step) of the time interval at which refinement stops.
-DEFAULT_TOLERANCE = 1e-6
+DEFAULT_TOLERANCE: float = _native.DEFAULT_CCD_TOLERANCE
 #: Cap on sub-box refinements of one query; reaching it makes it undecided.
-DEFAULT_MAX_ITERATIONS = 1_000_000
+DEFAULT_MAX_ITERATIONS: int = _native.DEFAULT_CCD_MAX_ITERATIONS
+#: Minimum separation (scene units): a contact is a distance <= thickness.
+DEFAULT_THICKNESS: float = _native.DEFAULT_THICKNESS
 
 __all__ = [
     "DEFAULT_TOLERANCE",
     "DEFAULT_MAX_ITERATIONS",
+    "DEFAULT_THICKNESS",
     "CCDAnswers",
     "vertex_face",
     "edge_edge",
@@ -64,7 +69,7 @@ def _check_settings(tolerance, thickness):
         raise ValueError("thickness must be >= 0")
 
 
-def vertex_face_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=0.0,
+def vertex_face_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS,
                          max_iterations=DEFAULT_MAX_ITERATIONS) -> CCDAnswers:
     """Vertex-face CCD with undecided flags and reached tolerances."""
     _check_settings(tolerance, thickness)
@@ -72,7 +77,7 @@ def vertex_face_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=0.0,
                                                      float(thickness), int(max_iterations)))
 
 
-def edge_edge_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=0.0,
+def edge_edge_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS,
                        max_iterations=DEFAULT_MAX_ITERATIONS) -> CCDAnswers:
     """Edge-edge CCD with undecided flags and reached tolerances."""
     _check_settings(tolerance, thickness)
@@ -80,14 +85,14 @@ def edge_edge_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=0.0,
                                                    float(thickness), int(max_iterations)))
 
 
-def vertex_face(queries, tolerance=DEFAULT_TOLERANCE, thickness=0.0,
+def vertex_face(queries, tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS,
                 max_iterations=DEFAULT_MAX_ITERATIONS):
     """Vertex-face CCD over (Q, 8, 3) queries -> (hit bool[Q], toi float64[Q])."""
     answers = vertex_face_detailed(queries, tolerance, thickness, max_iterations)
     return answers.hit, answers.toi
 
 
-def edge_edge(queries, tolerance=DEFAULT_TOLERANCE, thickness=0.0,
+def edge_edge(queries, tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS,
               max_iterations=DEFAULT_MAX_ITERATIONS):
     """Edge-edge CCD over (Q, 8, 3) queries -> (hit bool[Q], toi float64[Q])."""
     answers = edge_edge_detailed(queries, tolerance, thickness, max_iterations)
@@ -115,11 +120,11 @@ def _ids(array, count, name) -> np.ndarray:
 
 
 def triangle_pair(a_t0, a_t1, b_t0, b_t1, ids_a=None, ids_b=None, same_mesh=False,
-                  tolerance=DEFAULT_TOLERANCE, thickness=0.0, max_iterations=DEFAULT_MAX_ITERATIONS):
+                  tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS, max_iterations=DEFAULT_MAX_ITERATIONS):
     """Earliest contact of Q moving triangle pairs (6 vertex-face + 9 edge-edge each).
 
     Returns (hit bool[Q], toi float64[Q], feature int8[Q], undecided bool[Q],
-    primitive_queries int32[Q]); feature codes as ``usdksl`` contacts
+    primitive_queries int32[Q]); feature codes as in :mod:`usdksl.contacts`
     (0 vertex of A on B, 1 vertex of B on A, 2 edge-edge).
     """
     _check_settings(tolerance, thickness)
@@ -131,7 +136,7 @@ def triangle_pair(a_t0, a_t1, b_t0, b_t1, ids_a=None, ids_b=None, same_mesh=Fals
                                            float(tolerance), float(thickness), int(max_iterations))
 
 
-def triangles_intersect_static(a, b, thickness=0.0) -> np.ndarray:
+def triangles_intersect_static(a, b, thickness=DEFAULT_THICKNESS) -> np.ndarray:
     """Closed triangles a[q], b[q] touch or intersect (within thickness) -> bool[Q]."""
     if not thickness >= 0.0:
         raise ValueError("thickness must be >= 0")
@@ -139,7 +144,7 @@ def triangles_intersect_static(a, b, thickness=0.0) -> np.ndarray:
     return _native.triangles_intersect_static_batch(a, b, float(thickness))
 
 
-def triangle_pair_intersect_static(ids_a, a, ids_b, b, same_mesh=True, thickness=0.0) -> np.ndarray:
+def triangle_pair_intersect_static(ids_a, a, ids_b, b, same_mesh=True, thickness=DEFAULT_THICKNESS) -> np.ndarray:
     """Static triangle-pair test over primitives sharing no vertex id -> bool[Q]."""
     if not thickness >= 0.0:
         raise ValueError("thickness must be >= 0")

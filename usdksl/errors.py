@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Optional
 
+from .exit_codes import INPUT_ERROR
+
 
 class UsdkslInputError(Exception):
     """Bad input (unreadable file, NaN points, changing topology, ...): exit code 2.
@@ -12,7 +14,7 @@ class UsdkslInputError(Exception):
     with the prim and time parts left out when they do not apply.
     """
 
-    exit_code = 2
+    exit_code = INPUT_ERROR
 
     def __init__(self, message: str, file: Optional[str] = None, prim: Optional[str] = None,
                  time: Optional[float] = None):
@@ -37,3 +39,8 @@ class UsdkslInputError(Exception):
 
 class UsdkslUsageError(UsdkslInputError):
     """Wrong arguments (bad option value, unwritable output directory): exit code 2."""
+
+
+class UsdkslEmptyMeshError(UsdkslInputError):
+    """A mesh without points, without faces, or whose faces are all degenerate: the loader skips it with a
+    warning (placeholders are common in layouts) instead of failing the shot."""

@@ -1,6 +1,8 @@
 /// @file module.cpp
 /// @brief The private `usdksl._native` module: one define_<topic> per binding file.
 
+#include "usdksl/constants.hpp"
+
 #include <pybind11/pybind11.h>
 
 namespace py = pybind11;
@@ -10,6 +12,10 @@ void define_collision(py::module_& m);
 
 PYBIND11_MODULE(_native, m) {
     m.doc() = "usdksl native core (private; use the usdksl package)";
+    // The defaults Python reads instead of writing them again (usdksl/ccd.py).
+    m.attr("DEFAULT_CCD_TOLERANCE") = usdksl::DEFAULT_CCD_TOLERANCE;
+    m.attr("DEFAULT_CCD_MAX_ITERATIONS") = usdksl::DEFAULT_CCD_MAX_ITERATIONS;
+    m.attr("DEFAULT_THICKNESS") = usdksl::DEFAULT_THICKNESS;
     define_ccd(m);
     define_collision(m);
 }

@@ -6,22 +6,22 @@ import numpy as np
 from click.testing import CliRunner
 
 import report
-from usdksl.collision import DEFAULT_TOLERANCE
-import run
+from usdksl.ccd import DEFAULT_TOLERANCE
+import suite
 
 
 def test_every_method_runs_and_appears_in_the_ratio_table(suite_rows):
     rows, lines = suite_rows
     methods = rows[0]["methods"]
-    table = {row["method"]: row for row in run.ratio_rows(methods)}
-    assert set(table) == set(run.METHODS)
+    table = {row["method"]: row for row in suite.ratio_rows(methods)}
+    assert set(table) == set(suite.METHODS)
     assert all(row["status"] == "ok" for row in table.values()), {k: v["reason"] for k, v in table.items()}
     assert table["ksl"]["time_vs_ksl"] == 1.0
     for row in table.values():
         assert row["time_vs_ksl"] == row["wall_s"] / table["ksl"]["wall_s"]
     # the printed ratio lines name every method that ran
     assert all(any(line.strip().startswith(f"{label}/KSL time") for line in "\n".join(lines).splitlines())
-               for label in run.METHODS)
+               for label in suite.METHODS)
 
 
 def test_counts_are_consistent_with_the_reference(suite_rows):
@@ -43,8 +43,8 @@ def test_counts_are_consistent_with_the_reference(suite_rows):
     # the discrete methods report sample (or substep) times, never before the continuous first contact
     discrete = np.load(methods["discrete"]["contacts_file"])
     assert np.all(np.isin(discrete["time"], discrete["sample_times"]))
-    first = {tuple(key): time for key, time in zip(run._pair_keys(ksl).tolist(), ksl["time"])}
-    later = [time >= first[tuple(key)] for key, time in zip(run._pair_keys(discrete).tolist(), discrete["time"])
+    first = {tuple(key): time for key, time in zip(suite._pair_keys(ksl).tolist(), ksl["time"])}
+    later = [time >= first[tuple(key)] for key, time in zip(suite._pair_keys(discrete).tolist(), discrete["time"])
              if tuple(key) in first]
     assert later and all(later)
 
@@ -57,7 +57,7 @@ def test_removing_a_contact_from_a_method_counts_it_as_missed(suite_rows, tmp_pa
         arrays = {name: data[name] for name in data.files}
     np.savez(swept_file, **{name: (value[1:] if name != "sample_times" else value) for name, value in arrays.items()})
     methods["swept"]["contacts_file"] = str(swept_file)
-    run.add_comparisons(methods)
+    suite.add_comparisons(methods)
     assert methods["swept"]["comparison"]["missed"] == 1
     assert methods["swept"]["comparison"]["extra"] == 0
 
@@ -77,7 +77,7 @@ def test_report_has_a_row_per_method_and_real_plots(suite_rows, tmp_path):
     sparse[0]["shot"]["samples_per_keyframe"] = 1  # a second sampling of the same shot for the Fig. 10 plot
     page_path = report.write_report(sparse + dense, 300.0, str(tmp_path), "test")
     page = open(page_path).read()
-    for label in run.METHODS:
+    for label in suite.METHODS:
         assert f"| {label} | " in page
     assert "KSL vs swept on tablecloth 150, 2 samples/keyframe" in page
     assert "KSL time growth on tablecloth 150 from 1 to 2 samples/keyframe: **+0%**" in page

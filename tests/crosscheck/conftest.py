@@ -2,7 +2,7 @@
 
 import pytest
 
-from crosscheck_helpers import write_shot
+from builders import write_shot
 
 
 @pytest.fixture

@@ -8,12 +8,12 @@ import pytest
 from click.testing import CliRunner
 
 from usdksl.cli.crosscheck import crosscheck
-from usdksl.crosscheck import (ContactList, crosscheck_shot, default_mesh_pairs, parse_frames, points_at,
+from usdksl.crosscheck.shot import (ContactList, crosscheck_shot, default_mesh_pairs, parse_frames, points_at,
                                read_contacts_csv)
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
-from usdksl.loader import load_shot
+from usdksl.reading.loader import load_shot
 
-from crosscheck_helpers import grid_sheet
+from builders import grid_sheet
 
 QUAD = [0, 1, 2, 3]
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-import usdksl.embree_frames as embree_frames
-from usdksl.embree_frames import FrameTopology, intersecting_triangle_pairs
-from crosscheck_helpers import brute_force_pairs
+import usdksl.crosscheck.embree_frames as embree_frames
+from usdksl.crosscheck.embree_frames import FrameTopology, intersecting_triangle_pairs
+from brute_force import brute_force_pairs
 
 
 def found_pairs(result):

@@ -7,10 +7,10 @@ import sys
 import numpy as np
 import pytest
 
-from crosscheck_helpers import brute_force_pairs
-from usdksl.crosscheck import ContactList, _pair_matrix, crosscheck_shot, points_at, scoped_mesh_pairs
-from usdksl.embree_frames import FrameTopology
-from usdksl.loader import load_shot
+from brute_force import brute_force_pairs
+from usdksl.crosscheck.shot import ContactList, _pair_matrix, crosscheck_shot, points_at, scoped_mesh_pairs
+from usdksl.crosscheck.embree_frames import FrameTopology
+from usdksl.reading.loader import load_shot
 
 NO_CONTACTS = ContactList(*(np.zeros(0),) * 5)
 

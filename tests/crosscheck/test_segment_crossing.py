@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from usdksl.segment_crossing import CROSSING_MARGIN_RELATIVE, segments_cross_triangles
+from usdksl.crosscheck.segment_crossing import CROSSING_MARGIN_RELATIVE, segments_cross_triangles
 
 A, B, C = np.array([0.0, 0, 0]), np.array([1.0, 0, 0]), np.array([0.0, 1, 0])
 

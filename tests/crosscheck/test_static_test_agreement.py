@@ -4,7 +4,7 @@ triangle test (usdksl.ccd.triangles_intersect_static): the cross-check is the st
 import numpy as np
 import pytest
 
-from usdksl.embree_frames import FrameTopology, intersecting_triangle_pairs
+from usdksl.crosscheck.embree_frames import FrameTopology, intersecting_triangle_pairs
 
 ccd = pytest.importorskip("usdksl.ccd")
 

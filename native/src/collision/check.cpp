@@ -184,8 +184,9 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     validate(meshes, mesh_pairs, options);
     CheckResult result;
     // The event-based and swept methods run on merged flightplans with local
-    // slack and find candidates; every answer is confirmed on the raw samples.
-    // The reference and the discrete check read the raw samples directly.
+    // slack and find candidates; every continuous answer (brute force's too)
+    // is confirmed on the raw samples at a finer tolerance. The reference and
+    // the discrete check read the raw samples directly.
     const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
     const Scene scene(meshes, merge);
     const int32_t threads = resolve_threads(options.threads);
@@ -195,8 +196,11 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     if (windows.size() == 1) {
         TrianglePairTester tester(scene, options.ccd, result.counters);
         run_method(scene, mesh_pairs, options, tester, result.counters);
-        result.contacts = confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
-                                                 options.t_end, result.counters);
+        // The discrete baseline answers at sampled instants; it stays what it is, misses included.
+        result.contacts = options.method == Method::Discrete
+                              ? tester.sorted_contacts()
+                              : confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
+                                                       options.t_end, result.counters);
         return result;
     }
     // Windows are checked independently, each on its own copy of the scene
@@ -220,17 +224,19 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     std::vector<FlightplanKind> kinds;
     for (const std::vector<Contact>& c : candidates) mark_meshes_to_confirm(scene, c, kinds);
     std::unique_ptr<Scene> raw_scene;
-    if (std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
+    if (options.method != Method::Discrete && std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
         raw_scene = std::make_unique<Scene>(meshes, kinds);
     }
+    // The discrete baseline answers at sampled instants; it stays what it is, misses included.
+    const bool confirm = options.method != Method::Discrete;
     parallel_for(threads, static_cast<int32_t>(count), [&](int32_t w) {
-        if (!raw_scene) {
+        if (!confirm || !raw_scene) {
             confirmed[w] = candidates[w];
             return;
         }
         const Scene raw_local(*raw_scene);
-        confirmed[w] = confirm_on_raw_samples(scene, raw_local, candidates[w], options.ccd, windows[w].begin,
-                                              windows[w].end, counters[w]);
+        confirmed[w] = confirm_on_raw_scene(raw_local, candidates[w], options.ccd, windows[w].begin, windows[w].end,
+                                            counters[w]);
     });
     for (const Counters& c : counters) add_counters(result.counters, c);
     result.contacts = merge_windows(confirmed);

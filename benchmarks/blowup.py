@@ -1,0 +1,103 @@
+"""What one exploded vertex costs: a sample shot against copies with one vertex blown far away.
+
+    python benchmarks/blowup.py [SHOT] [--vertex V] [--time T] [--heights 1e3 1e5 1e7 1e9]
+
+Moves vertex V of the shot's first deforming mesh to y = H at the sample nearest time T (a
+simulation blow-up), checks every copy with the default method in this process, and prints, per
+height: CPU time as a ratio of the unmodified shot's (target: at most 3x, issue 20), whether every
+contact away from the blown-up vertex's faces equals the unmodified run's, the number of pairs,
+and the blow-up warning. Ratios come from one run; the machine is shared, so read ratios, not seconds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import sys
+import time
+from typing import Dict, List, Sequence, Tuple
+
+import numpy as np
+
+import usdksl
+from usdksl.reading.blowups import describe_blowups, shot_blowups
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DEFAULT_SHOT = os.path.join(HERE, "..", "samples", "drape.usda")
+#: Target of issue 20: a blown-up copy costs at most this many times the unmodified shot.
+COST_RATIO_TARGET = 3.0
+
+
+def default_pairs(meshes: Sequence) -> List[Tuple[int, int]]:
+    """Self pairs of deforming meshes and every inter pair with a deforming mesh (the default scope)."""
+    deforming = [mesh.kind == "deforming" for mesh in meshes]
+    pairs = [(i, i) for i, d in enumerate(deforming) if d]
+    pairs += [(i, j) for i in range(len(meshes)) for j in range(i + 1, len(meshes)) if deforming[i] or deforming[j]]
+    return pairs
+
+
+def face_times(result, meshes) -> Dict[Tuple[int, int, int, int], float]:
+    faces = result.face_contacts(meshes)
+    return {(int(a), int(fa), int(b), int(fb)): float(t)
+            for t, a, fa, b, fb in zip(faces.time, faces.mesh_a, faces.face_a, faces.mesh_b, faces.face_b)}
+
+
+def away_from(contacts: Dict, mesh: int, faces: set) -> Dict:
+    return {key: t for key, t in contacts.items()
+            if not ((key[0] == mesh and key[1] in faces) or (key[2] == mesh and key[3] in faces))}
+
+
+def timed_check(meshes, pairs):
+    started = time.process_time()
+    blowups = shot_blowups(meshes)
+    result = usdksl.find_contacts(meshes, pairs)
+    return time.process_time() - started, result, blowups
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("shot", nargs="?", default=DEFAULT_SHOT)
+    parser.add_argument("--vertex", type=int, default=None, help="vertex to blow up (default: the middle one)")
+    parser.add_argument("--time", type=float, default=None, help="sample to blow it up at (default: middle sample)")
+    parser.add_argument("--heights", type=float, nargs="+", default=[1e3, 1e5, 1e7, 1e9])
+    args = parser.parse_args(argv)
+
+    shot = usdksl.load_shot(args.shot)
+    meshes = shot.meshes
+    target = next(i for i, mesh in enumerate(meshes) if mesh.kind == "deforming")
+    mesh = meshes[target]
+    vertex = mesh.vertex_count // 2 if args.vertex is None else args.vertex
+    sample = (mesh.sample_count // 2 if args.time is None
+              else int(np.argmin(np.abs(mesh.times - args.time))))
+    pairs = default_pairs(meshes)
+    blown_faces = set(mesh.triangle_face[(mesh.triangles == vertex).any(axis=1)].tolist())
+
+    base_seconds, base, _ = timed_check(meshes, pairs)
+    base_contacts = face_times(base, meshes)
+    print(f"shot {args.shot}: {mesh.path} vertex {vertex} at time {mesh.times[sample]:g}; "
+          f"unmodified: {base_seconds:.2f} s CPU, {len(base_contacts)} face pairs")
+    print(f"{'height':>8} {'cpu ratio':>9} {'pairs':>7} {'away equal':>10}  warning")
+    worst = 0.0
+    all_equal = True
+    for height in args.heights:
+        points = mesh.points.copy()
+        points[sample, vertex, 1] = height
+        blown = list(meshes)
+        blown[target] = dataclasses.replace(mesh, points=points)
+        seconds, result, blowups = timed_check(blown, pairs)
+        contacts = face_times(result, blown)
+        equal = away_from(contacts, target, blown_faces) == away_from(base_contacts, target, blown_faces)
+        warning = describe_blowups(blowups, os.path.basename(args.shot))
+        ratio = seconds / base_seconds
+        worst = max(worst, ratio)
+        all_equal = all_equal and equal
+        print(f"{height:8.0e} {ratio:9.2f} {len(contacts):7d} {str(equal):>10}  "
+              f"{warning[0] if warning else 'NO WARNING'}")
+    verdict = "met" if worst <= COST_RATIO_TARGET and all_equal else "MISSED"
+    print(f"worst cost ratio {worst:.2f} (target <= {COST_RATIO_TARGET:g}), contacts away equal: {all_equal}: {verdict}")
+    return 0 if verdict == "met" else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

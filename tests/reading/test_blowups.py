@@ -1,0 +1,66 @@
+"""Blow-up detection: a vertex far beyond its mesh's motion is named; ordinary motion never is."""
+
+import numpy as np
+import pytest
+
+from usdksl.reading.blowups import BLOWUP_SIZE_FACTOR, describe_blowups, find_blowups, shot_blowups
+
+
+def waving_cloth(frames=20, n=6):
+    xs, zs = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+    rest = np.stack([xs.ravel(), np.zeros(xs.size), zs.ravel()], axis=1)
+    times = np.arange(float(frames))
+    points = np.stack([rest + [0.0, 0.1 * np.sin(0.5 * t), 0.0] + 0.05 * np.sin(rest * 3 + t) for t in times])
+    return times, points
+
+
+@pytest.mark.parametrize("height", [1e3, 1e5, 1e7, 1e9])
+def test_one_vertex_blown_at_one_sample_is_named_with_both_steps(height):
+    times, points = waving_cloth()
+    points[9, 14, 1] = height
+    found = find_blowups("/World/Cloth", times, points)
+    assert {b.vertex for b in found} == {14}
+    assert [(b.time_before, b.time_after) for b in found] == [(8.0, 9.0), (9.0, 10.0)]
+    lines = describe_blowups(found, "shot.usd")
+    assert len(lines) == 1
+    assert "/World/Cloth" in lines[0] and "vertex 14" in lines[0] and "between time 8 and 10" in lines[0]
+
+
+def test_fast_rigid_motion_and_half_turns_are_not_blowups():
+    times, cloth = waving_cloth()
+    # Translate by 50 mesh sizes per frame and turn half a revolution per frame about y.
+    moving = []
+    for k, t in enumerate(times):
+        angle = np.pi * t
+        c, s = np.cos(angle), np.sin(angle)
+        rotation = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+        moving.append(cloth[k] @ rotation.T + [50.0 * t, 0.0, 0.0])
+    assert find_blowups("/World/Spinner", times, np.asarray(moving)) == []
+
+
+def test_threshold_is_relative_to_the_mesh_size():
+    times, points = waving_cloth()
+    size = np.linalg.norm(points[0].max(axis=0) - points[0].min(axis=0))
+    below, above = points.copy(), points.copy()
+    below[5, 3, 1] += 0.5 * BLOWUP_SIZE_FACTOR * size
+    above[5, 3, 1] += 2.0 * BLOWUP_SIZE_FACTOR * size
+    assert find_blowups("/m", times, below) == []
+    assert {b.vertex for b in find_blowups("/m", times, above)} == {3}
+
+
+def test_many_blown_vertices_are_summarised():
+    times, points = waving_cloth()
+    points[4, :12, 1] = 1e6
+    lines = describe_blowups(find_blowups("/World/Cloth", times, points), "shot.usd")
+    assert len(lines) == 6
+    assert "7 more vertices blow up" in lines[-1]
+
+
+def test_static_and_rigid_meshes_are_not_scanned():
+    class Mesh:
+        def __init__(self, kind):
+            self.path, self.kind = "/m", kind
+            self.times, self.points = waving_cloth()
+            self.points[3, 0, 0] = 1e9
+    assert shot_blowups([Mesh("rigid"), Mesh("static")]) == []
+    assert len(shot_blowups([Mesh("deforming")])) == 2

@@ -1,0 +1,126 @@
+"""contacts.csv / summary.csv / JSON / JUnit built from hand-made face contacts."""
+
+import csv
+import io
+import json
+from xml.etree import ElementTree
+
+import numpy as np
+
+from usdksl.contacts import ContactTable
+from usdksl.reports.formats import contacts_csv, format_times, json_report, junit_report, summary_csv, summary_line
+from usdksl.reading.scope import SceneFlags, plan_pairs
+
+
+def contacts(rows):
+    columns = list(zip(*rows)) if rows else [[]] * 6
+    return ContactTable(None, np.array(columns[0], float), *(np.array(c, np.int32) for c in columns[1:5]),
+                        np.array(columns[5], np.int8))
+
+
+# mesh 0 is "/Z/Cloth", mesh 1 is "/A/Box": index order differs from string order on purpose
+PATHS = ["/Z/Cloth", "/A/Box"]
+
+
+def test_prim_order_face_order_sorting_and_dedup():
+    table = ContactTable.from_face_contacts(contacts([
+        (2.5, 0, 7, 1, 3, 0),      # inter, must swap: /A/Box first; vertex-face becomes face-vertex
+        (1.0, 0, 9, 0, 4, 2),      # self, must swap faces: 4 < 9
+        (1.0, 0, 1, 0, 1, 0),      # same face self pair: dropped
+        (0.5, 1, 3, 0, 7, 1),      # the same face pair as row 1, earlier: kept, row 1 dropped
+        (1.0, 1, 0, 0, 2, 3),
+    ]), PATHS)
+    rows = list(csv.reader(io.StringIO(contacts_csv(table))))
+    assert rows[0] == ["time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature"]
+    assert rows[1:] == [
+        ["0.5", "/A/Box", "3", "/Z/Cloth", "7", "inter", "face-vertex"],
+        ["1.0", "/A/Box", "0", "/Z/Cloth", "2", "inter", "initial"],
+        ["1.0", "/Z/Cloth", "4", "/Z/Cloth", "9", "self", "edge-edge"],
+    ]
+
+
+def test_vertex_face_flips_with_the_sides():
+    table = ContactTable.from_face_contacts(contacts([(2.0, 0, 7, 1, 3, 0)]), PATHS)
+    assert table.records()[0]["feature"] == "face-vertex"
+    assert table.records()[0]["prim_a"] == "/A/Box" and table.records()[0]["face_a"] == 3
+
+
+def test_times_are_repr_exact_and_round_trip():
+    times = np.array([0.1 + 0.2, 1e-7, 17.488909631961178, 48.0, -3.25])
+    text = format_times(times).tolist()
+    assert text == [repr(t) for t in times.tolist()]
+    assert [float(t) for t in text] == times.tolist()
+
+
+def test_summary_rows():
+    table = ContactTable.from_face_contacts(contacts([
+        (3.0, 0, 1, 1, 1, 2), (2.0, 0, 2, 1, 2, 2), (5.0, 0, 1, 0, 5, 2), (4.0, 1, 4, 0, 4, 2)]), PATHS)
+    rows = list(csv.reader(io.StringIO(summary_csv(table))))
+    assert rows == [["prim_a", "prim_b", "kind", "first_contact_time", "face_pairs"],
+                    ["/A/Box", "/Z/Cloth", "inter", "2.0", "3"],
+                    ["/Z/Cloth", "/Z/Cloth", "self", "5.0", "1"]]
+
+
+def test_empty_table_has_headers_only():
+    table = ContactTable.from_face_contacts(contacts([]), PATHS)
+    assert contacts_csv(table) == "time,prim_a,face_a,prim_b,face_b,kind,feature\n"
+    assert summary_csv(table) == "prim_a,prim_b,kind,first_contact_time,face_pairs\n"
+
+
+def test_large_table_is_deterministic_and_sorted():
+    rng = np.random.default_rng(7)
+    count = 100_000
+    raw = ContactTable(None, np.round(rng.uniform(0, 48, count), 3), rng.integers(0, 3, count).astype(np.int32),
+                           rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 3, count).astype(np.int32),
+                           rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 4, count).astype(np.int8))
+    paths = ["/c", "/a", "/b"]
+    first = contacts_csv(ContactTable.from_face_contacts(raw, paths))
+    permutation = rng.permutation(count)
+    shuffled = ContactTable(None, *(getattr(raw, name)[permutation] for name in
+                                  ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
+    second = contacts_csv(ContactTable.from_face_contacts(shuffled, paths))
+    # the same face pair at the same time with different features can appear; ties break on feature
+    assert first == second
+    rows = list(csv.reader(io.StringIO(first)))[1:]
+    keys = [(float(r[0]), r[1], int(r[2]), r[3], int(r[4])) for r in rows]
+    assert keys == sorted(keys)
+    assert all(r[1] < r[3] or (r[1] == r[3] and int(r[2]) < int(r[4])) for r in rows)
+    assert len(set((r[1], r[2], r[3], r[4]) for r in rows)) == len(rows)
+
+
+def _plan():
+    return plan_pairs(PATHS, ["deforming", "static"], np.array([True, False]), SceneFlags.permissive(2))
+
+
+def test_junit_one_case_per_checked_pair_with_failures():
+    table = ContactTable.from_face_contacts(contacts([(2.0, 0, 7, 1, 3, 0), (3.0, 0, 8, 1, 3, 0)]), PATHS)
+    root = ElementTree.fromstring(junit_report("shot.usda", _plan(), table))
+    suites = root.findall("testsuite")
+    assert len(suites) == 1 and suites[0].get("name") == "shot.usda"
+    cases = suites[0].findall("testcase")
+    assert sorted(c.get("name") for c in cases) == ["/A/Box x /Z/Cloth", "/Z/Cloth"]
+    failed = {c.get("name"): c.find("failure") for c in cases}
+    assert failed["/Z/Cloth"] is None
+    assert failed["/A/Box x /Z/Cloth"].get("message") == "2 face pairs in contact, first at time 2.0"
+    assert suites[0].get("tests") == "2" and suites[0].get("failures") == "1"
+
+
+def test_json_document():
+    table = ContactTable.from_face_contacts(contacts([(2.0, 0, 7, 1, 3, 0)]), PATHS)
+    document = json.loads(json_report("shot.usda", {"method": "ksl"}, _plan(), table, 1, version="0.1"))
+    assert document["shot"] == "shot.usda" and document["settings"] == {"method": "ksl"}
+    assert document["plan"]["pairs_checked"] == 2 and document["plan"]["pairs_possible"] == 3
+    assert document["summary"] == [{"prim_a": "/A/Box", "prim_b": "/Z/Cloth", "kind": "inter",
+                                    "first_contact_time": 2.0, "face_pairs": 1}]
+    assert document["contacts"] == [{"time": 2.0, "prim_a": "/A/Box", "face_a": 3, "prim_b": "/Z/Cloth",
+                                     "face_b": 7, "kind": "inter", "feature": "face-vertex"}]
+    assert document["exit_code"] == 1
+
+
+def test_summary_line():
+    plan = _plan()
+    clean = summary_line(ContactTable.empty(PATHS), plan, (0.0, 48.0), 1.23)
+    assert clean == "usdksl: clean: no contacts; checked 2 pairs over 0..48 in 1.2s"
+    table = ContactTable.from_face_contacts(contacts([(14.5, 0, 7, 1, 3, 0), (15.0, 0, 8, 1, 3, 0)]), PATHS)
+    line = summary_line(table, plan, (0.0, 48.0), 0.5)
+    assert line.startswith("usdksl: 2 contacting face pairs in 1 mesh pair, first at t=14.5;")

@@ -1,0 +1,198 @@
+"""The contact model: one reported contact row per face pair, put in canonical order by one function.
+
+A :class:`ContactTable` holds the first contact of every contacting face pair of a check, column by
+column (numpy arrays, no Python object per row): time (USD time codes), the two meshes (indices into
+``paths``), the two authored faces and the feature that touched first. Every producer builds it through
+:func:`canonical_first_contacts` and every writer (CSV, JSON, JUnit, override layer, merge) reads it,
+so there is one order and one choice of row per pair (docs/contracts.md, Contacts):
+
+* self rows have face_a < face_b, inter rows prim_a < prim_b (string order of the prim paths; mesh
+  index order when a table has no paths);
+* one row per face pair: its earliest time; among equal earliest times the lowest feature code;
+* rows sorted by (time, prim_a, face_a, prim_b, face_b).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+
+#: Feature codes (the native core's ContactFeature) and the words the reports write for them.
+FEATURE_VERTEX_FACE = 0
+FEATURE_FACE_VERTEX = 1
+FEATURE_EDGE_EDGE = 2
+#: Already touching at the start of the checked range (the core's "Static": a test at one instant).
+FEATURE_INITIAL = 3
+FEATURE_NAMES = ("vertex-face", "face-vertex", "edge-edge", "initial")
+#: Written for a feature code outside FEATURE_NAMES (a table built without features).
+FEATURE_UNKNOWN = "unknown"
+
+KIND_SELF = "self"
+KIND_INTER = "inter"
+
+Columns = Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def path_rank(paths: Sequence[str]) -> np.ndarray:
+    """int64[N]: each mesh's position in the string order of ``paths``."""
+    rank = np.empty(len(paths), dtype=np.int64)
+    rank[sorted(range(len(paths)), key=list(paths).__getitem__)] = np.arange(len(paths))
+    return rank
+
+
+def canonical_first_contacts(time, mesh_a, face_a, mesh_b, face_b, feature,
+                             mesh_rank: Optional[np.ndarray] = None) -> Columns:
+    """The one place a contact pair is put in canonical order.
+
+    Takes contact rows in any order and orientation (several rows per face pair allowed) and returns
+    ``(time float64, mesh_a int32, face_a int32, mesh_b int32, face_b int32, feature int8)``: sides
+    swapped so self rows have face_a < face_b and inter rows ``mesh_rank[mesh_a] < mesh_rank[mesh_b]``
+    (vertex-face and face-vertex swap with the sides), rows inside one face dropped, the first contact
+    of each face pair kept (earliest time, then lowest feature), sorted by (time, rank_a, face_a,
+    rank_b, face_b). ``mesh_rank`` defaults to the mesh index order.
+    """
+    time = np.asarray(time, dtype=np.float64).reshape(-1)
+    mesh_a = np.asarray(mesh_a, dtype=np.int64).reshape(-1)
+    face_a = np.asarray(face_a, dtype=np.int64).reshape(-1)
+    mesh_b = np.asarray(mesh_b, dtype=np.int64).reshape(-1)
+    face_b = np.asarray(face_b, dtype=np.int64).reshape(-1)
+    feature = (np.full(time.shape, -1, np.int8) if feature is None
+               else np.asarray(feature, dtype=np.int8).reshape(-1))
+    if mesh_rank is None:
+        count = int(max(mesh_a.max(initial=-1), mesh_b.max(initial=-1))) + 1
+        mesh_rank = np.arange(count, dtype=np.int64)
+    mesh_rank = np.asarray(mesh_rank, dtype=np.int64)
+
+    same_mesh = mesh_a == mesh_b
+    swap = np.where(same_mesh, face_a > face_b, mesh_rank[mesh_a] > mesh_rank[mesh_b]) if time.size else same_mesh
+    mesh_a, mesh_b = np.where(swap, mesh_b, mesh_a), np.where(swap, mesh_a, mesh_b)
+    face_a, face_b = np.where(swap, face_b, face_a), np.where(swap, face_a, face_b)
+    flipped = np.where(feature == FEATURE_VERTEX_FACE, FEATURE_FACE_VERTEX,
+                       np.where(feature == FEATURE_FACE_VERTEX, FEATURE_VERTEX_FACE, feature))
+    feature = np.where(swap, flipped, feature).astype(np.int8)
+
+    keep = ~(same_mesh & (face_a == face_b))
+    time, mesh_a, face_a, mesh_b, face_b, feature = (
+        column[keep] for column in (time, mesh_a, face_a, mesh_b, face_b, feature))
+
+    if time.size:
+        rank_a, rank_b = mesh_rank[mesh_a], mesh_rank[mesh_b]
+        by_pair = np.lexsort((feature, time, face_b, rank_b, face_a, rank_a))
+        key = np.stack([rank_a, face_a, rank_b, face_b], axis=1)[by_pair]
+        first = np.ones(by_pair.size, bool)
+        first[1:] = np.any(key[1:] != key[:-1], axis=1)
+        chosen = by_pair[first]
+        order = chosen[np.lexsort((feature[chosen], face_b[chosen], rank_b[chosen], face_a[chosen],
+                                   rank_a[chosen], time[chosen]))]
+        time, mesh_a, face_a, mesh_b, face_b, feature = (
+            column[order] for column in (time, mesh_a, face_a, mesh_b, face_b, feature))
+    return (time, mesh_a.astype(np.int32), face_a.astype(np.int32), mesh_b.astype(np.int32),
+            face_b.astype(np.int32), feature)
+
+
+@dataclass
+class ContactTable:
+    """First contact per face pair in canonical order. ``paths``: prim paths of the loaded meshes (None
+    for meshes without paths, e.g. arrays built in a test; then mesh index order is canonical)."""
+
+    paths: Optional[List[str]]
+    time: np.ndarray      # float64[C], time codes
+    mesh_a: np.ndarray    # int32[C], index into paths
+    face_a: np.ndarray    # int32[C], authored face of mesh_a
+    mesh_b: np.ndarray    # int32[C]
+    face_b: np.ndarray    # int32[C]
+    feature: np.ndarray   # int8[C], FEATURE_* code
+
+    @classmethod
+    def from_rows(cls, paths: Optional[Sequence[str]], time, mesh_a, face_a, mesh_b, face_b,
+                  feature=None) -> "ContactTable":
+        """Any contact rows (see :func:`canonical_first_contacts`) as a table in canonical order."""
+        paths = None if paths is None else list(paths)
+        rank = None if paths is None else path_rank(paths)
+        return cls(paths, *canonical_first_contacts(time, mesh_a, face_a, mesh_b, face_b, feature, rank))
+
+    @classmethod
+    def from_face_contacts(cls, contacts, paths: Sequence[str]) -> "ContactTable":
+        """Rows of anything with arrays time, mesh_a, face_a, mesh_b, face_b (and optionally feature),
+        e.g. another table, re-ordered for ``paths``."""
+        return cls.from_rows(paths, contacts.time, contacts.mesh_a, contacts.face_a, contacts.mesh_b,
+                             contacts.face_b, getattr(contacts, "feature", None))
+
+    @classmethod
+    def concatenate(cls, tables: Sequence["ContactTable"]) -> "ContactTable":
+        """Tables of consecutive, disjoint time segments of one shot, in time order. Rows are kept as they
+        are (no first-contact merge across segments: face indices may refer to different topologies)."""
+        if len(tables) == 1:
+            return tables[0]
+        if any(table.paths != tables[0].paths for table in tables):
+            raise ValueError("segments of one shot loaded different meshes")
+        return cls(paths=tables[0].paths and list(tables[0].paths),
+                   **{name: np.concatenate([getattr(table, name) for table in tables])
+                      for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")})
+
+    @classmethod
+    def empty(cls, paths: Optional[Sequence[str]]) -> "ContactTable":
+        zeros = np.zeros(0, np.int32)
+        return cls(paths=None if paths is None else list(paths), time=np.zeros(0), mesh_a=zeros,
+                   face_a=zeros, mesh_b=zeros, face_b=zeros, feature=np.zeros(0, np.int8))
+
+    @property
+    def count(self) -> int:
+        return int(self.time.shape[0])
+
+    def __len__(self) -> int:
+        return self.count
+
+    @property
+    def is_self(self) -> np.ndarray:
+        return self.mesh_a == self.mesh_b
+
+    def _names(self) -> List[str]:
+        if self.paths is not None:
+            return list(self.paths)
+        count = int(max(self.mesh_a.max(initial=-1), self.mesh_b.max(initial=-1))) + 1
+        return [str(index) for index in range(count)]
+
+    def kinds(self) -> np.ndarray:
+        """object[C]: 'self' or 'inter' per row."""
+        return np.where(self.is_self, KIND_SELF, KIND_INTER).astype(object)
+
+    def feature_names(self) -> np.ndarray:
+        """object[C]: the feature word per row (FEATURE_NAMES, or FEATURE_UNKNOWN)."""
+        names = np.array(FEATURE_NAMES + (FEATURE_UNKNOWN,), dtype=object)
+        known = (self.feature >= 0) & (self.feature < len(FEATURE_NAMES))
+        return names[np.where(known, self.feature, len(FEATURE_NAMES))]
+
+    def prim_names(self) -> Tuple[np.ndarray, np.ndarray]:
+        """(prim_a, prim_b) object arrays of prim paths per row."""
+        names = np.array(self._names() + [""], dtype=object)
+        return names[self.mesh_a], names[self.mesh_b]
+
+    def summary(self) -> List[dict]:
+        """One dict per mesh pair with contacts: prim_a, prim_b, kind, first_contact_time, face_pairs,
+        sorted by first_contact_time, then prim_a, prim_b."""
+        if self.count == 0:
+            return []
+        names = self._names()
+        pair_key = self.mesh_a.astype(np.int64) * max(len(names), 1) + self.mesh_b
+        # rows are in time order, so the first row of each pair is its first contact
+        _, first, counts = np.unique(pair_key, return_index=True, return_counts=True)
+        rows = []
+        for index, count in zip(first.tolist(), counts.tolist()):
+            a, b = int(self.mesh_a[index]), int(self.mesh_b[index])
+            rows.append({"prim_a": names[a], "prim_b": names[b], "kind": KIND_SELF if a == b else KIND_INTER,
+                         "first_contact_time": float(self.time[index]), "face_pairs": int(count)})
+        rows.sort(key=lambda row: (row["first_contact_time"], row["prim_a"], row["prim_b"]))
+        return rows
+
+    def records(self) -> List[dict]:
+        """One dict per row: time, prim_a, face_a, prim_b, face_b, kind, feature."""
+        if self.count == 0:
+            return []
+        prim_a, prim_b = self.prim_names()
+        return [{"time": t, "prim_a": a, "face_a": fa, "prim_b": b, "face_b": fb, "kind": k, "feature": f}
+                for t, a, fa, b, fb, k, f in zip(self.time.tolist(), prim_a.tolist(), self.face_a.tolist(),
+                                                 prim_b.tolist(), self.face_b.tolist(), self.kinds().tolist(),
+                                                 self.feature_names().tolist())]

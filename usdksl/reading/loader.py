@@ -1,0 +1,253 @@
+"""USD stage -> world-space arrays the native core checks.
+
+Every ``UsdGeom.Mesh`` of the stage becomes a :class:`MeshData`: its world-space
+points at each of its time samples (the union of the ``points`` samples and of the
+xformOp samples of the mesh and of its ancestors up to a ``resetXformStack``), a fan
+triangulation of its authored polygons with a triangle -> face map, and a
+classification (static / rigid / deforming).
+
+Two kinds of mesh take their points from OpenUSD instead of ``points`` x transform:
+
+* meshes skinned by UsdSkel (bound to a Skeleton under a SkelRoot): :mod:`usdksl.reading.skinning`;
+* each instance of a mesh prototype of a ``UsdGeom.PointInstancer``, named
+  ``<instancer>[<index>]/<prototype>/...``: :mod:`usdksl.reading.instancing`. Meshes below a
+  PointInstancer are its prototypes and are never loaded on their own (UsdImaging and
+  UsdGeomBBoxCache prune them the same way).
+
+Empty meshes (no points, no faces, or only degenerate faces) are skipped with a warning
+in :attr:`Shot.warnings`; a shot with nothing else left is an input error.
+
+Python loops over prims and time samples only; points, faces and triangles are
+handled by numpy. The points of one mesh go straight into one preallocated
+``float64[K, N, 3]`` array, so loading holds little more than the result.
+
+The input file is opened read-only and never saved.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import os
+import re
+from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+from pxr import Tf, Usd, UsdGeom
+
+from ..errors import UsdkslEmptyMeshError, UsdkslInputError, UsdkslUsageError
+# What the rest of the package reads from the loader; one mesh is read in .meshes.
+from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, _MatrixCache, _window, load_mesh,  # noqa: F401
+                     mesh_sample_times, topology_segments)
+
+IncludeFilter = Union[None, Callable[[str], bool], str, Sequence[str]]
+
+
+# --------------------------------------------------------------------------- opening
+
+_PXR_NAMESPACE = re.compile(r"pxrInternal_v\w*?__pxrReserved__::")
+
+
+def _pxr_error_text(error: Exception) -> str:
+    """The diagnostics of a Tf.ErrorException on one line, without C++ function/file noise."""
+    messages = []
+    for entry in re.split(r"\n\s*Error in ", str(error)):
+        _, separator, message = entry.partition(" : '")
+        text = message.strip().rstrip("'") if separator else entry
+        text = " ".join(_PXR_NAMESPACE.sub("", text).split())
+        if text:
+            messages.append(text)
+    return "; ".join(messages) or type(error).__name__
+
+
+def open_stage(path: Union[str, os.PathLike]) -> Usd.Stage:
+    """Open ``path`` read-only with all payloads loaded; one-line UsdkslInputError on failure.
+
+    A local file is checked first (missing, a directory, unreadable: one line each). Anything that is not a
+    local file but that the asset resolver resolves (a package-relative path such as
+    ``shot.usdz[scene.usdc]``, or a path a studio resolver understands) is opened through Usd.Stage.Open.
+    """
+    file = os.fspath(path)
+    if not os.path.exists(file):
+        if not _resolves(file):
+            raise UsdkslInputError("no such file", file=file)
+    elif not os.path.isfile(file):
+        raise UsdkslInputError("not a file", file=file)
+    elif not os.access(file, os.R_OK):
+        raise UsdkslInputError("file is not readable", file=file)
+    try:
+        stage = Usd.Stage.Open(file, Usd.Stage.LoadAll)
+    except Tf.ErrorException as error:
+        raise UsdkslInputError(f"cannot open as USD: {_pxr_error_text(error)}", file=file) from None
+    if stage is None:
+        raise UsdkslInputError("cannot open as USD", file=file)
+    return stage
+
+
+def _resolves(asset_path: str) -> bool:
+    """True when the asset resolver finds ``asset_path`` (not a plain local file)."""
+    from pxr import Ar
+
+    try:
+        return bool(str(Ar.GetResolver().Resolve(asset_path)))
+    except Tf.ErrorException:
+        return False
+
+
+def stage_metadata(stage: Usd.Stage) -> Dict[str, object]:
+    """Stage metadata an override layer must copy so the cache's samples keep their meaning."""
+    root = stage.GetRootLayer()
+    metadata: Dict[str, object] = {
+        "timeCodesPerSecond": float(stage.GetTimeCodesPerSecond()),
+        "framesPerSecond": float(stage.GetFramesPerSecond()),
+    }
+    if root.HasStartTimeCode():
+        metadata["startTimeCode"] = float(stage.GetStartTimeCode())
+    if root.HasEndTimeCode():
+        metadata["endTimeCode"] = float(stage.GetEndTimeCode())
+    metadata["upAxis"] = str(UsdGeom.GetStageUpAxis(stage))
+    metadata["metersPerUnit"] = float(UsdGeom.GetStageMetersPerUnit(stage))
+    if root.HasDefaultPrim():
+        metadata["defaultPrim"] = str(root.defaultPrim)
+    return metadata
+
+
+# --------------------------------------------------------------------------- finding meshes
+
+def _include_predicate(include: IncludeFilter) -> Callable[[str], bool]:
+    if include is None:
+        return lambda path: True
+    if callable(include):
+        return include
+    patterns = [include] if isinstance(include, str) else list(include)
+
+    def matches(path: str) -> bool:
+        for pattern in patterns:
+            pattern = str(pattern).rstrip("/") or "/"
+            if (fnmatch.fnmatchcase(path, pattern) or path.startswith(pattern + "/")
+                    or path.startswith(pattern + "[")):   # instances: <instancer>[<index>]/...
+                return True
+        return False
+
+    return matches
+
+
+def mesh_prims(stage: Usd.Stage, include: IncludeFilter = None) -> List[Usd.Prim]:
+    """Every defined, active UsdGeom.Mesh (instance proxies included), in traversal order.
+
+    Meshes below a UsdGeom.PointInstancer are its prototypes: they are left out here and
+    loaded once per instance (:mod:`usdksl.reading.instancing`).
+    ``include``: None (all), a callable on the prim path, or fnmatch patterns; a pattern
+    also selects every mesh below the prim it names.
+    """
+    wanted = _include_predicate(include)
+    predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
+    found = []
+    prims = iter(Usd.PrimRange.Stage(stage, predicate))
+    for prim in prims:
+        if prim.IsA(UsdGeom.PointInstancer):
+            prims.PruneChildren()
+        elif prim.IsA(UsdGeom.Mesh) and wanted(str(prim.GetPath())):
+            found.append(prim)
+    return found
+
+# --------------------------------------------------------------------------- whole shot
+
+def _check_time_range(file: str, time_range) -> Optional[Tuple[float, float]]:
+    if time_range is None:
+        return None
+    try:
+        start, end = (float(value) for value in time_range)
+    except (TypeError, ValueError):
+        raise UsdkslUsageError(f"time range must be two numbers, got {time_range!r}",
+                               file=file) from None
+    if not (np.isfinite(start) and np.isfinite(end)) or start > end:
+        raise UsdkslUsageError(f"time range [{start:g}, {end:g}] is empty or not finite",
+                               file=file)
+    return (start, end)
+
+
+def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, float]] = None,
+              include: IncludeFilter = None) -> Shot:
+    """Load every mesh of a USD shot in world space (see module docstring).
+
+    ``time_range=(a, b)``: each animated mesh keeps its samples inside (a, b) plus its
+    values evaluated exactly at a and b. ``include``: see :func:`mesh_prims`.
+    Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input.
+    """
+    from . import instancing, layer_rates, skinning   # they build on this module
+
+    file = os.fspath(path)
+    time_range = _check_time_range(file, time_range)
+    stage = open_stage(file)
+    metadata = stage_metadata(stage)
+    warnings: List[str] = []
+    try:
+        prims = mesh_prims(stage, include)
+        skinned = skinning.find_skinned_meshes(stage)
+        sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
+        sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings)
+    except Tf.ErrorException as error:
+        raise UsdkslInputError(f"cannot read the stage: {_pxr_error_text(error)}", file=file) from None
+    if not sources:
+        what = "no UsdGeom.Mesh prims" if include is None else "no UsdGeom.Mesh prims match the selection"
+        raise UsdkslInputError(f"{what} on the stage", file=file)
+
+    try:
+        per_mesh_times = [_window(source.sample_times(), time_range) for source in sources]
+    except Tf.ErrorException as error:
+        raise UsdkslInputError(f"cannot read time samples: {_pxr_error_text(error)}",
+                               file=file) from None
+    animated = [times for times in per_mesh_times if times.size]
+    if animated:
+        reference_time = float(min(times[0] for times in animated))
+    elif time_range is not None:
+        reference_time = time_range[0]
+    else:
+        reference_time = float(metadata.get("startTimeCode", 0.0))
+
+    matrices = _MatrixCache()
+    meshes = []
+    empty: List[UsdkslEmptyMeshError] = []
+    for source, times in zip(sources, per_mesh_times):
+        if times.size == 0:
+            times = np.array([reference_time], dtype=np.float64)
+        try:
+            loaded = source.load(times, file, matrices)
+        except UsdkslEmptyMeshError as error:
+            empty.append(error)
+            warnings.append(f"{error}; skipped")
+            continue
+        except Tf.ErrorException as error:
+            raise UsdkslInputError(f"cannot read mesh: {_pxr_error_text(error)}", file=file,
+                                   prim=source.path) from None
+        meshes.extend(loaded if isinstance(loaded, list) else [loaded])
+    if not meshes and empty:
+        first = empty[0]
+        others = f" and {len(empty) - 1} more empty meshes" if len(empty) > 1 else ""
+        raise UsdkslInputError(f"{first.message}{others}; nothing else to check", file=file,
+                               prim=first.prim, time=first.time)
+    if not meshes:
+        raise UsdkslInputError("nothing to check: no mesh and no visible PointInstancer instance",
+                               file=file)
+    warnings.extend(layer_rates.rescaled_layer_warnings(
+        stage, [prim for source in sources for prim in source.motion_prims()], file))
+    shot_times = np.unique(np.concatenate([mesh.times for mesh in meshes]))
+    return Shot(path=file, meshes=meshes, times=shot_times, metadata=metadata, stage=stage,
+                warnings=warnings)
+
+
+class _AuthoredMesh:
+    """A mesh whose world points are its authored points through its transforms (no UsdSkel, no instancer)."""
+
+    def __init__(self, prim: Usd.Prim):
+        self.prim = prim
+        self.path = str(prim.GetPath())
+
+    def sample_times(self) -> np.ndarray:
+        return mesh_sample_times(self.prim)
+
+    def motion_prims(self) -> List[Usd.Prim]:
+        return [self.prim]
+
+    def load(self, times: np.ndarray, file: str, matrices: _MatrixCache) -> MeshData:
+        return load_mesh(self.prim, times, file, matrices)

@@ -1,0 +1,164 @@
+"""Many shots in one call: one job per shot, run in this process or on Dask, written by the caller only.
+
+A :class:`ShotJob` says which file to check (an absolute path, so any worker finds it whatever its working
+folder), how the reports name it (the path as the user gave it) and where its files go. :func:`run_job`
+checks it and returns a :class:`ShotOutcome` — plain data that pickles — and never raises: a shot that
+cannot be checked is an outcome with exit code 2 and its one-line error, so it does not stop the others.
+Only the caller writes files (:func:`write_outcome`), so a job that runs twice (a Dask worker died and
+the task was run again) cannot write anything twice.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Dict, Iterable, List, Optional, Sequence
+
+from ..checking.pipeline import CheckOptions, CheckResult, Message, OutputTargets, check_shot, output_targets
+from ..errors import UsdkslInputError, UsdkslUsageError
+from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERROR
+from ..reports.output import write_files
+
+#: Characters that make a shot argument a pattern to expand (a quoted glob the shell left alone).
+GLOB_CHARACTERS = "*?["
+
+
+@dataclass(frozen=True)
+class ShotJob:
+    """One shot to check: ``path`` (absolute) is read, ``name`` (as given) is what reports and messages
+    say, ``targets`` (absolute) where its files go."""
+
+    path: str
+    name: str
+    targets: OutputTargets
+
+
+@dataclass
+class ShotOutcome:
+    """What became of one shot: its exit code, and either its result or the line saying why it failed."""
+
+    name: str
+    exit_code: int
+    result: Optional[CheckResult] = None
+    error: Optional[str] = None
+    messages: List[Message] = field(default_factory=list)
+
+    def line(self) -> str:
+        """The shot's line in a batch: its summary, or its error."""
+        if self.result is None:
+            return f"usdksl: error: {self.error}"
+        return f"usdksl: {self.name}: {self.result.summary[len('usdksl: '):]}"
+
+
+def expand_shots(arguments: Sequence[str]) -> List[str]:
+    """Shot arguments with quoted globs expanded (sorted); an argument that is a file, or a pattern that
+    matches nothing, is kept as it is (it is then reported as a missing file)."""
+    shots: List[str] = []
+    for argument in arguments:
+        matches = sorted(glob.glob(argument)) if any(c in argument for c in GLOB_CHARACTERS) else []
+        shots.extend(matches if matches and not os.path.isfile(argument) else [argument])
+    return list(dict.fromkeys(shots))
+
+
+def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str] = None,
+              junit_path: Optional[str] = None) -> List[object]:
+    """A ShotJob per shot, or a failed ShotOutcome for a shot whose file or output folder is unusable.
+
+    Raises UsdkslUsageError when the call cannot work at all: --json/--junit with several shots, or two
+    shots that would write the same files."""
+    if len(shots) > 1 and (json_path or junit_path):
+        raise UsdkslUsageError(f"--json and --junit take one shot; got {len(shots)}")
+    entries: List[object] = []
+    owners: Dict[Path, str] = {}
+    for shot in shots:
+        try:
+            targets = output_targets(shot, out, json_path, junit_path)
+        except UsdkslInputError as error:
+            entries.append(ShotOutcome(name=shot, exit_code=error.exit_code, error=error.one_line()))
+            continue
+        targets = OutputTargets(out_dir=targets.out_dir.resolve(),
+                                json_path=targets.json_path and targets.json_path.resolve(),
+                                junit_path=targets.junit_path and targets.junit_path.resolve(),
+                                json_to_stdout=targets.json_to_stdout)
+        written = targets.contacts_csv(shot)
+        if written in owners:
+            raise UsdkslUsageError(f"{owners[written]} and {shot} would both write {written}; "
+                                   f"give shots with different names or check them into different --out folders")
+        owners[written] = shot
+        entries.append(ShotJob(path=str(Path(shot).resolve()), name=shot, targets=targets))
+    return entries
+
+
+def run_job(job: ShotJob, options: CheckOptions) -> ShotOutcome:
+    """Check one shot; never raises (a failure is an outcome with exit code 2). Runs on Dask workers."""
+    try:
+        result = check_shot(job.path, options, job.targets, name=job.name)
+    except UsdkslInputError as error:
+        if error.file == job.path:
+            error.file = job.name
+        return ShotOutcome(name=job.name, exit_code=error.exit_code, error=error.one_line())
+    except Exception as error:  # noqa: BLE001  (a crash fails this shot, never the batch, never exit 1)
+        if os.environ.get("USDKSL_DEBUG"):
+            raise
+        return ShotOutcome(name=job.name, exit_code=INPUT_ERROR,
+                           error=f"{job.name}: internal error: {type(error).__name__}: "
+                                 f"{' '.join(str(error).split())} (set USDKSL_DEBUG=1 for a traceback)")
+    return ShotOutcome(name=job.name, exit_code=result.exit_code, result=result, messages=result.messages)
+
+
+def write_outcome(outcome: ShotOutcome) -> ShotOutcome:
+    """Publish a checked shot's files (all or none); a write failure turns the outcome into exit 2."""
+    if outcome.result is None:
+        return outcome
+    try:
+        write_files(outcome.result.files)
+    except UsdkslInputError as error:
+        return ShotOutcome(name=outcome.name, exit_code=error.exit_code, error=error.one_line(),
+                           messages=outcome.messages)
+    return outcome
+
+
+def run_here(jobs: Iterable[ShotJob], options: CheckOptions) -> Iterable[ShotOutcome]:
+    """The jobs one after the other in this process, in order."""
+    for job in jobs:
+        yield run_job(job, options)
+
+
+def worst_exit_code(outcomes: Iterable[ShotOutcome]) -> int:
+    """The largest exit code (docs/contracts.md, Exit codes); 0 for no shot."""
+    return max((outcome.exit_code for outcome in outcomes), default=CLEAN)
+
+
+def total_line(outcomes: Sequence[ShotOutcome]) -> str:
+    """The last line of a batch: how many shots ended how, and the exit code."""
+    counts = {code: sum(1 for o in outcomes if o.exit_code == code)
+              for code in (CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERROR)}
+    parts = [f"{counts[CLEAN]} clean", f"{counts[CONTACTS_FOUND]} with contacts"]
+    if counts[CROSSCHECK_DISAGREES]:
+        parts.append(f"{counts[CROSSCHECK_DISAGREES]} where the cross-check disagrees")
+    parts.append(f"{counts[INPUT_ERROR]} failed")
+    shots = len(outcomes)
+    return (f"usdksl: {shots} shot{'s' if shots != 1 else ''}: {', '.join(parts)}; "
+            f"exit code {worst_exit_code(outcomes)}")
+
+
+def run_batch(entries: Sequence[object], options: CheckOptions, runner: Callable = run_here,
+              on_outcome: Optional[Callable[[ShotOutcome], None]] = None) -> List[ShotOutcome]:
+    """Run every ShotJob of ``entries`` with ``runner(jobs, options)`` (an iterator of outcomes in any
+    order), write each shot's files as its outcome arrives, and return the outcomes in the order of
+    ``entries`` (failed entries of :func:`make_jobs` included)."""
+    jobs = [entry for entry in entries if isinstance(entry, ShotJob)]
+    done: Dict[str, ShotOutcome] = {}
+    for entry in entries:
+        if isinstance(entry, ShotOutcome):
+            done[entry.name] = entry
+            if on_outcome is not None:
+                on_outcome(entry)
+    for outcome in runner(jobs, options):
+        outcome = write_outcome(outcome)
+        done[outcome.name] = outcome
+        if on_outcome is not None:
+            on_outcome(outcome)
+    return [done[entry.name] for entry in entries]
