@@ -110,6 +110,7 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     counters["bv_change_events"] = k.bv_change_events;
     counters["bv_tests"] = k.bv_tests;
     counters["narrow_phase_tests"] = k.narrow_phase_tests;
+    counters["cleared_steps"] = k.cleared_steps;
     counters["primitive_queries"] = k.primitive_queries;
     counters["undecided_queries"] = k.undecided_queries;
     counters["raw_confirmations"] = k.raw_confirmations;

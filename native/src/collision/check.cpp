@@ -114,6 +114,7 @@ void add_counters(Counters& total, const Counters& part) {
     total.bv_change_events += part.bv_change_events;
     total.bv_tests += part.bv_tests;
     total.narrow_phase_tests += part.narrow_phase_tests;
+    total.cleared_steps += part.cleared_steps;
     total.primitive_queries += part.primitive_queries;
     total.undecided_queries += part.undecided_queries;
     total.raw_confirmations += part.raw_confirmations;

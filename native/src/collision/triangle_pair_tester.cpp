@@ -1,5 +1,6 @@
 #include "usdksl/collision/triangle_pair_tester.hpp"
 
+#include "usdksl/collision/pair_clearance.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
 #include <algorithm>
@@ -7,6 +8,13 @@
 #include <limits>
 
 namespace usdksl {
+namespace {
+
+/// Most steps a pair waits, after a clearance certificate failed at once,
+/// before it tries another.
+constexpr int32_t CLEARANCE_MAX_BACKOFF_STEPS = 16;
+
+} // namespace
 
 TrianglePairTester::TrianglePairTester(const Scene& scene, const CCDSettings& settings, Counters& counters)
     : scene_(scene), settings_(settings), counters_(counters) {
@@ -105,7 +113,7 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
 }
 
 StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from,
-                                       double until) {
+                                       double until, bool use_clearance, int64_t max_steps) {
     constexpr double infinity = std::numeric_limits<double>::infinity();
     canonical_order(mesh_a, tri_a, mesh_b, tri_b);
     const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
@@ -116,8 +124,16 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
     for (int i = 0; i < 6; ++i) {
         plans[i] = &scene_.plans[i < 3 ? mesh_a : mesh_b];
         vertex[i] = i < 3 ? ids_a[i] : ids_b[i - 3];
-        segment[i] = plans[i]->segment_of(vertex[i], from);
+        segment[i] = plans[i]->peek_segment(vertex[i], from);
     }
+    // A clearance certificate skips steps on which the pair provably stays
+    // out of reach; one that fails at once backs off for a few steps, so a
+    // pair in near contact does not pay for it on every step.
+    PairClearance clearance;
+    bool certified = false, fresh = false;
+    int32_t wait = 0, backoff = 1;
+    const double contact_distance = settings_for(mesh_a, mesh_b).thickness;
+    int64_t steps = 0;
     double t = from;
     while (true) {
         // The step containing t, as step_containing() finds it.
@@ -146,8 +162,32 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
             start = p.position_in_segment(vertex[i], segment[i], begin);
             finish = p.position_in_segment(vertex[i], at_end, end);
         }
-        if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1)) return {end, true};
-        if (end >= until) return {end, false};
+        bool cleared = false;
+        if (use_clearance && !certified && wait == 0) {
+            clearance.start(ids_a, a0, ids_b, b0, mesh_a == mesh_b, contact_distance, settings_.tolerance);
+            certified = fresh = true;
+        }
+        if (certified) {
+            cleared = clearance.holds_at(a1, b1);
+            if (cleared) {
+                fresh = false;
+                backoff = 1;
+            } else {
+                certified = false;
+                if (fresh) {
+                    wait = backoff;
+                    backoff = std::min(2 * backoff, CLEARANCE_MAX_BACKOFF_STEPS);
+                }
+            }
+        } else if (wait > 0) {
+            --wait;
+        }
+        if (cleared) {
+            ++counters_.cleared_steps;
+        } else if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1)) {
+            return {end, true};
+        }
+        if (end >= until || ++steps == max_steps) return {end, false};
         t = end;
     }
 }

@@ -130,6 +130,13 @@ int64_t Flightplans::segment_of(int32_t v, double t) const {
     return segment_hint_[v] = search_segment(v, t);
 }
 
+int64_t Flightplans::peek_segment(int32_t v, double t) const {
+    const int64_t end = offsets_[v + 1];
+    const int64_t k = segment_hint_[v];
+    if (k < end && key_times_[k] <= t && (k + 1 == end || key_times_[k + 1] > t)) return k;
+    return search_segment(v, t);
+}
+
 int64_t Flightplans::search_segment(int32_t v, double t) const {
     const auto first = key_times_ + offsets_[v];
     const auto last = key_times_ + offsets_[v + 1];

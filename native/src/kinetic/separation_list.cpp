@@ -13,6 +13,10 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int64_t kProgressEveryEvents = 1 << 14;
 constexpr double kNothingTested = -1e300;
 
+/// Steps an overlapping leaf pair's narrow phase covers per event before the
+/// event asks whether the leaves still overlap.
+constexpr int64_t LEAF_POLL_STEPS = 8;
+
 uint64_t pair_key(int32_t a, int32_t b) {
     return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
 }
@@ -291,7 +295,7 @@ void KineticSeparationLists::remove_descendants(int32_t list_id, int32_t a, int3
     }
 }
 
-void KineticSeparationLists::cover(Entry& e, double t, double until) {
+void KineticSeparationLists::cover(Entry& e, double t, double until, int64_t max_steps) {
     if (e.inert || e.tested_until >= until) return;
     const List& list = lists_[e.list];
     const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[e.a];
@@ -300,7 +304,8 @@ void KineticSeparationLists::cover(Entry& e, double t, double until) {
         e.inert = true;
         return;
     }
-    const StepRun run = tester_.test_steps(list.mesh_a, tri_a, list.mesh_b, tri_b, std::max(t, e.tested_until), until);
+    const StepRun run =
+        tester_.test_steps(list.mesh_a, tri_a, list.mesh_b, tri_b, std::max(t, e.tested_until), until, true, max_steps);
     e.tested_until = run.tested_until;
     if (run.hit) e.inert = true;
 }
@@ -324,13 +329,19 @@ void KineticSeparationLists::schedule(int32_t id, double t) {
     const List& list = lists_[e.list];
     double when = kInfinity;
     if (e.overlapping_leaf) {
-        // The narrow phase covers every step until the leaves may separate, in
-        // one loop; the event then asks whether they did. Leaves that share a
-        // vertex never separate: their whole shot is covered at once.
+        // The narrow phase covers the next few steps in one loop (clearance
+        // certificates skip most of them); the event at their end asks
+        // whether the leaves still overlap. A late separation event costs
+        // only steps covered in vain, cheaper than computing when the boxes
+        // part. Leaves that share a vertex never separate: their whole shot
+        // is covered at once.
         if (!e.inert) {
-            when = e.permanent ? kInfinity : separation_time(list, e.a, e.b, t);
-            cover(e, t, std::min(when, t_end_));
-            if (e.inert) when = kInfinity;
+            if (e.permanent) {
+                cover(e, t, t_end_, 0);
+            } else if (e.tested_until <= t) {
+                cover(e, t, t_end_, LEAF_POLL_STEPS);
+            }
+            when = e.inert ? kInfinity : e.tested_until;
         }
     } else {
         e.father_separation = e.fa >= 0 ? separation_time(list, e.fa, e.fb, t) : kInfinity;
@@ -401,7 +412,17 @@ void KineticSeparationLists::process_entry_event(int32_t id, double t) {
         }
         return;
     }
-    schedule(id, t);  // the overlap bound fired early: look again from here
+    refresh(id, t);  // the overlap bound fired early: look again from here
+}
+
+void KineticSeparationLists::refresh(int32_t id, double t) {
+    // Bounds still ahead of t stay valid; only those reached are recomputed.
+    Entry& e = entries_[id];
+    for (int gap = 0; gap < 6; ++gap) {
+        if (e.gap_rise[gap] <= t) e.stale_gaps |= static_cast<uint8_t>(1u << gap);
+    }
+    if (e.fa >= 0 && e.father_separation <= t) e.father_separation = separation_time(lists_[e.list], e.fa, e.fb, t);
+    reschedule_stale_gaps(id, t);
 }
 
 void KineticSeparationLists::node_changed(int32_t mesh, int32_t node, int slot) {

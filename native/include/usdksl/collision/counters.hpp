@@ -18,6 +18,9 @@ struct Counters {
     int64_t bv_tests = 0;
     /// @brief Triangle-pair narrow-phase calls (continuous or static).
     int64_t narrow_phase_tests = 0;
+    /// @brief Flightplan steps of leaf pairs that a clearance certificate
+    ///        skipped without a narrow-phase call (KSL).
+    int64_t cleared_steps = 0;
     /// @brief Primitive (vertex-face, edge-edge) CCD queries.
     int64_t primitive_queries = 0;
     /// @brief Primitive queries that hit the iteration cap.

@@ -55,8 +55,12 @@ public:
     ///        time code `from` until one ends at or after `until`, stopping at
     ///        the first contact. Each step is tested exactly as test_step
     ///        tests step_containing(...) (bit-identical answers), but the
-    ///        flightplan segments are walked with a local cursor.
-    StepRun test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from, double until);
+    ///        flightplan segments are walked with a local cursor. With
+    ///        `use_clearance`, steps that a PairClearance certificate proves
+    ///        out of reach are skipped (counted as cleared_steps). Stops
+    ///        after `max_steps` steps when that is positive.
+    StepRun test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from, double until,
+                       bool use_clearance, int64_t max_steps = 0);
 
     /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);

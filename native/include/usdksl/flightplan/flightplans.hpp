@@ -43,6 +43,10 @@ public:
     ///        key_time(k) <= t, or key_begin(v) when t is before every breakpoint.
     int64_t segment_of(int32_t v, double t) const;
 
+    /// @brief segment_of(v, t) without moving the cursor: for a caller about to
+    ///        walk ahead of the others with a cursor of its own.
+    int64_t peek_segment(int32_t v, double t) const;
+
     /// @brief Coordinate `axis` of vertex v at time code t.
     double coord(int32_t v, int axis, double t) const { return coord_in_segment(v, segment_of(v, t), axis, t); }
 

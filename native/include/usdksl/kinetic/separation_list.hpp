@@ -84,13 +84,15 @@ private:
     void remove_descendants(int32_t list, int32_t a, int32_t b);
     /// Runs the narrow phase on every step of a leaf pair from the one
     /// containing time code t (or after what is already tested) until one ends
-    /// at or after `until`.
-    void cover(Entry& entry, double t, double until);
+    /// at or after `until`, or after `max_steps` steps when that is positive.
+    void cover(Entry& entry, double t, double until, int64_t max_steps);
     bool share_vertex(int32_t mesh, int32_t tri_a, int32_t tri_b) const;
     /// Key of a leaf pair of `list` in leaf_tested_until_.
     uint64_t tester_key(const List& list, int32_t a, int32_t b) const;
     void schedule(int32_t id, double t);
     void enqueue(int32_t id, double when, double t);
+    /// A non-overlapping entry's event came early: recomputes the bounds it reached.
+    void refresh(int32_t id, double t);
     /// After box changes: recomputes only the entry's stale gaps.
     void reschedule_stale_gaps(int32_t id, double t);
 
