@@ -427,14 +427,12 @@ def read_contacts_csv(path: str) -> Tuple[np.ndarray, np.ndarray]:
     return pair_keys(table[:, 1], table[:, 2], table[:, 3], table[:, 4]), table[:, 0].astype(np.float64)
 
 
-def compare_times(reported_keys: np.ndarray, reported_times: np.ndarray, reference: PeerContacts,
-                  agreement: float = AGREEMENT_TIME_CODES) -> Dict:
-    """Reported first contacts against a reference: issue 14's acceptance numbers.
-
-    ``error = reported - reference`` in time codes: negative is early, positive late."""
-    reference_keys = reference.keys()
+def compare_times(reported_keys: np.ndarray, reported_times: np.ndarray, reference_keys: np.ndarray,
+                  reference_times: np.ndarray, agreement: float = AGREEMENT_TIME_CODES) -> Dict:
+    """Reported first contacts against a reference (face-pair keys from ``pair_keys``, times in time codes):
+    issue 14's acceptance numbers. ``error = reported - reference``: negative is early, positive late."""
     common, at_reported, at_reference = np.intersect1d(reported_keys, reference_keys, return_indices=True)
-    error = np.asarray(reported_times, np.float64)[at_reported] - reference.time[at_reference]
+    error = np.asarray(reported_times, np.float64)[at_reported] - np.asarray(reference_times, np.float64)[at_reference]
     within = np.abs(error) <= agreement
     unconfirmed = np.setdiff1d(reported_keys, reference_keys)
     missing = np.setdiff1d(reference_keys, reported_keys)
@@ -461,7 +459,7 @@ def compare_csv_to_tight_reference(shot_path: str, contacts_csv: str, reference:
         reference = all_first_contacts(load_combined(shot_path), PeerSettings(TIGHT_TOLERANCE, TIGHT_MAX_ITERATIONS,
                                                                              thickness))
     keys, times = read_contacts_csv(contacts_csv)
-    return compare_times(keys, times, reference), reference
+    return compare_times(keys, times, reference.keys(), reference.time), reference
 
 
 def contacts_csv_text(contacts: PeerContacts) -> str:
