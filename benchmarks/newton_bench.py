@@ -290,6 +290,8 @@ def _time_error(record: Dict) -> str:
 def markdown(entries: List[Dict], command: str) -> str:
     lines = ["# usdksl on Newton simulator caches", "",
              f"Command: `{command}`", "",
+             "Runs made one process per cache are merged with `python benchmarks/newton_bench.py --render "
+             "PART.json ...`.", "",
              f"{MACHINE_NOTE}. Wall seconds, CPU seconds in parentheses; `check` is the `usdksl check` command "
              "end to end (a separate process), the other usdksl methods are `usdksl.find_contacts` on "
              "check's planned pairs with the shot already loaded; `ipctk` is benchmarks/peer_ipctk.py's "
@@ -385,6 +387,8 @@ def render(argv: List[str]) -> int:
     for path in ([args.json] if os.path.exists(args.json) else []) + args.parts:
         with open(path) as handle:
             document["entries"].update(json.load(handle)["entries"])
+    for entry in document["entries"].values():
+        entry.setdefault("merged_by", "python benchmarks/newton_bench.py --render PART.json ...")
     write_outputs(document, args.json, args.markdown)
     return 0
 

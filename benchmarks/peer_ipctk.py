@@ -329,7 +329,7 @@ def all_first_contacts(combined: CombinedMesh, settings: PeerSettings = PeerSett
     piercings = _first_sample_piercings(combined, settings, counters)
     if piercings is not None:
         rows.append(piercings)
-    vertex_count, edge_count = len(combined.vertex_mesh), len(combined.edges)
+    edge_count = len(combined.edges)
     hit_vf = np.zeros(0, np.int64)      # primitive pairs already hit: later hits cannot be earlier
     hit_ee = np.zeros(0, np.int64)
     tolerance, iterations, thickness = settings.tolerance, settings.max_iterations, settings.thickness
@@ -379,7 +379,6 @@ def all_first_contacts(combined: CombinedMesh, settings: PeerSettings = PeerSett
                                                     t0 + toi[hit] * (t1 - t0)))
         if progress is not None:
             progress(k + 1, len(combined.times) - 1)
-    del vertex_count
     return earliest_per_face_pair(combined.paths, rows, counters)
 
 
