@@ -366,6 +366,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.undecided = true;
             result.toi = box.t_lo;
             result.reached_tolerance = box.t_hi - box.t_lo;
+            result.iterations = iterations;
             return result;
         }
         ++iterations;
@@ -386,6 +387,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.hit = true;
             result.toi = box.t_lo;
             result.reached_tolerance = 0.0;
+            result.iterations = iterations;
             return result;
         }
 
@@ -393,6 +395,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.hit = true;
             result.toi = box.t_lo;
             result.reached_tolerance = box.t_hi - box.t_lo;
+            result.iterations = iterations;
             return result;
         }
 
@@ -441,6 +444,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.hit = true;
             result.toi = clipped.t_lo;
             result.reached_tolerance = widths[0];
+            result.iterations = iterations;
             return result;
         }
 
@@ -471,6 +475,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         heap.push_back(low);
         std::push_heap(heap.begin(), heap.end(), later_first);
     }
+    result.iterations = iterations;
     return result;
 }
 
