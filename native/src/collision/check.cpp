@@ -71,7 +71,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         break;
     }
     result.contacts = confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
-                                             options.t_end, result.counters);
+                                             options.t_end, result.counters, options.progress);
     return result;
 }
 

@@ -7,6 +7,9 @@
 namespace usdksl {
 namespace {
 
+/// Candidates confirmed between two progress calls (where a stop request is raised).
+constexpr int64_t kProgressEveryCandidates = 1 << 7;
+
 /// A contact of meshes whose flightplans kept every sample already is a raw
 /// answer; any dropped sample (even one exactly on its chord) changes the steps
 /// the narrow phase saw, so the time is recomputed on the raw intervals. Every
@@ -33,7 +36,7 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
 
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
-                                            Counters& counters) {
+                                            Counters& counters, const ProgressCallback& progress) {
     std::vector<FlightplanKind> kinds(candidate_scene.meshes.size(), FlightplanKind::Unused);
     std::vector<Contact> confirmed;
     for (const Contact& c : candidates) {
@@ -50,6 +53,9 @@ std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const 
     for (const Contact& c : candidates) {
         if (!needs_confirmation(candidate_scene, c)) continue;
         ++counters.raw_confirmations;
+        if (progress && counters.raw_confirmations % kProgressEveryCandidates == 0) {
+            progress(t_end, static_cast<int64_t>(confirmed.size() + raw.contacts().size()));
+        }
         first_raw_contact(raw, c, c.time, t_begin, t_end);
     }
     counters.raw_rejections = counters.raw_confirmations - static_cast<int64_t>(raw.contacts().size());

@@ -5,6 +5,7 @@
 ///        trajectories come within the user's thickness.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/collision/check.hpp"
 #include "usdksl/collision/contact.hpp"
 #include "usdksl/collision/counters.hpp"
 #include "usdksl/collision/scene.hpp"
@@ -21,9 +22,10 @@ namespace usdksl {
 ///        from there is the pair's first contact; a candidate that never
 ///        touches on the raw samples is dropped. Candidates of meshes whose
 ///        flightplans kept every sample are already raw answers and pass unchanged.
+///        `progress` (may be empty) is called every so many candidates with t_end.
 /// @return The confirmed contacts sorted by contact_before.
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
-                                            Counters& counters);
+                                            Counters& counters, const ProgressCallback& progress = {});
 
 } // namespace usdksl
