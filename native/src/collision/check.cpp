@@ -75,7 +75,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     result.contacts = options.method == Method::Discrete
                           ? tester.sorted_contacts()
                           : confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
-                                                   options.t_end, result.counters);
+                                                   options.t_end, result.counters, options.progress);
     return result;
 }
 

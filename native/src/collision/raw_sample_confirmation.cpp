@@ -17,6 +17,9 @@ CCDSettings confirming(const CCDSettings& settings) {
     return fine;
 }
 
+/// Candidates confirmed between two progress calls (where a stop request is raised).
+constexpr int64_t kProgressEveryCandidates = 1 << 7;
+
 /// Tests one triangle pair on the raw samples from time code `from` on; the
 /// tester records its first contact.
 void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, double t_begin, double t_end) {
@@ -34,7 +37,7 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
 
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
-                                            Counters& counters) {
+                                            Counters& counters, const ProgressCallback& progress) {
     if (candidates.empty()) return {};
     std::vector<FlightplanKind> kinds(candidate_scene.meshes.size(), FlightplanKind::Unused);
     for (const Contact& c : candidates) kinds[c.mesh_a] = kinds[c.mesh_b] = FlightplanKind::RawSamples;
@@ -42,6 +45,9 @@ std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const 
     TrianglePairTester raw(raw_scene, confirming(settings), counters);
     for (const Contact& c : candidates) {
         ++counters.raw_confirmations;
+        if (progress && counters.raw_confirmations % kProgressEveryCandidates == 0) {
+            progress(t_end, static_cast<int64_t>(raw.contacts().size()));
+        }
         first_raw_contact(raw, c, c.time, t_begin, t_end);
     }
     counters.raw_rejections = counters.raw_confirmations - static_cast<int64_t>(raw.contacts().size());

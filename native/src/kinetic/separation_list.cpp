@@ -11,6 +11,11 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int64_t kProgressEveryEvents = 1 << 14;
+/// Progress (where a stop request is raised) also comes after so many entries
+/// scheduled or narrow-phase tests run: one event can cost a hard narrow-phase
+/// test or reschedule every entry of a box, and setting up the lists (one
+/// expansion of a whole self-overlapping tree) has no events at all.
+constexpr int64_t kProgressEveryWork = 1 << 8;
 
 uint64_t pair_key(int32_t a, int32_t b) {
     return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
@@ -219,6 +224,12 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     return id;
 }
 
+void KineticSeparationLists::worked(double t) {
+    if (progress_ && *progress_ && (++work_ % kProgressEveryWork) == 0) {
+        (*progress_)(t, static_cast<int64_t>(tester_.contacts().size()));
+    }
+}
+
 void KineticSeparationLists::remove_entry(int32_t id) {
     Entry& e = entries_[id];
     List& list = lists_[e.list];
@@ -286,9 +297,11 @@ void KineticSeparationLists::narrow_phase(Entry& e, double t) {
     if (step.end <= e.tested_until) return;
     e.tested_until = step.end;
     if (tester_.test_step(list.mesh_a, tri_a, list.mesh_b, tri_b, step)) e.inert = true;
+    worked(t);
 }
 
 void KineticSeparationLists::schedule(int32_t id, double t) {
+    worked(t);
     Entry& e = entries_[id];
     const List& list = lists_[e.list];
     double when = kInfinity;
@@ -403,6 +416,7 @@ void KineticSeparationLists::process_tree_event(int64_t handle, double t) {
 }
 
 void KineticSeparationLists::run(const ProgressCallback& progress) {
+    progress_ = &progress;
     for (size_t m = 0; m < trees_.size(); ++m) {
         if (!trees_[m]) continue;
         const int32_t nodes = trees_[m]->topology().node_count();
@@ -437,6 +451,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
             progress(t, static_cast<int64_t>(tester_.contacts().size()));
         }
     }
+    progress_ = nullptr;
 }
 
 } // namespace usdksl

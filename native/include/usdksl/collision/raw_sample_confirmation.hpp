@@ -5,6 +5,7 @@
 ///        trajectories come within the user's thickness.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/collision/check.hpp"
 #include "usdksl/collision/contact.hpp"
 #include "usdksl/collision/counters.hpp"
 #include "usdksl/collision/scene.hpp"
@@ -31,9 +32,10 @@ constexpr double CONFIRMATION_TOLERANCE_FACTOR = 1e-3;
 ///        samples is dropped. Every reported time comes from one raw sample
 ///        interval, whatever the method or time window found the candidate, so
 ///        answers are bit-identical across them.
+///        `progress` (may be empty) is called every so many candidates with t_end.
 /// @return The confirmed contacts sorted by contact_before.
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
-                                            Counters& counters);
+                                            Counters& counters, const ProgressCallback& progress = {});
 
 } // namespace usdksl
