@@ -77,9 +77,12 @@ def _echo(line: str) -> None:
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
               help="Stop after SECONDS: exit 2 with one line, and no files written for a shot not finished.")
+@click.option("--threads", type=click.IntRange(min=1), default=None, metavar="N",
+              help="Threads per check (default: every core this process may use); results are identical for "
+                   "any count.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, json_path, junit_path, strict, jobs, scheduler,
-          timeout):
+          timeout, threads):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -92,7 +95,7 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
                            include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
-                           strict=strict)
+                           strict=strict, threads=threads)
     shots = expand_shots(shots)
     finished = []
     try:

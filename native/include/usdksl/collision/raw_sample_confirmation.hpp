@@ -5,9 +5,9 @@
 ///        trajectories come within the user's thickness.
 
 #include "usdksl/ccd/ccd_settings.hpp"
-#include "usdksl/collision/check.hpp"
 #include "usdksl/collision/contact.hpp"
 #include "usdksl/collision/counters.hpp"
+#include "usdksl/collision/check.hpp"
 #include "usdksl/collision/scene.hpp"
 
 #include <vector>
@@ -32,10 +32,21 @@ constexpr double CONFIRMATION_TOLERANCE_FACTOR = 1e-3;
 ///        samples is dropped. Every reported time comes from one raw sample
 ///        interval, whatever the method or time window found the candidate, so
 ///        answers are bit-identical across them.
-///        `progress` (may be empty) is called every so many candidates with t_end.
 /// @return The confirmed contacts sorted by contact_before.
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
                                             Counters& counters, const ProgressCallback& progress = {});
+
+/// @brief Marks (as RawSamples in `kinds`, sized to the scene's meshes) every
+///        mesh that a candidate involves.
+void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Contact>& candidates,
+                            std::vector<FlightplanKind>& kinds);
+
+/// @brief confirm_on_raw_samples on a raw scene built beforehand with (at
+///        least) the kinds mark_meshes_to_confirm asks for; `raw_scene` may be
+///        a per-thread copy.
+std::vector<Contact> confirm_on_raw_scene(const Scene& raw_scene, const std::vector<Contact>& candidates,
+                                          const CCDSettings& settings, double t_begin, double t_end,
+                                          Counters& counters, const ProgressCallback& progress = {});
 
 } // namespace usdksl
