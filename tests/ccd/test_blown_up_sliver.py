@@ -18,8 +18,9 @@ HEIGHTS = [1e3, 1e5, 1e7, 1e9]
 DYADIC_HEIGHTS = [2.0**10, 2.0**17, 2.0**23, 2.0**30]
 TOLERANCES = [1e-2, 1e-6, 1e-9]
 #: Boxes any one of these queries may take at any height. Before the root
-#: finder chose its parameter origin and evaluated boxes only inside the face,
-#: the fold near miss took 2e4 boxes at height 1e5 and 2e5 at 1e7.
+#: finder chose its own parameter origin, the fold near miss took 2e4 boxes
+#: at height 1e5 and 2e5 at 1e7, the thickness case about 1e5 at every height
+#: (in the corner order given).
 MAX_ITERATIONS_AT_ANY_HEIGHT = 100
 
 # From samples/fold.usda: vertex 94 of /World/Strip blown up at sample 18

@@ -224,7 +224,6 @@ public:
         if (inside) return Verdict::Inside;
         auto& projected = image.projected;
         if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
-        if (excluded_within_face(box, at, image)) return Verdict::Excluded;
 
         variation[0] = variation[1] = variation[2] = 0.0;
         if (rule == SplitRule::Overall) {
@@ -327,99 +326,6 @@ public:
                 hi = std::max(hi, g);
             }
             if (lo > d.bound || hi < -d.bound) return true;
-        }
-        return false;
-    }
-
-    /// Vertex-face boxes that cross the face's far edge u + v = 1: the box
-    /// corners beyond it belong to the parallelogram, not the face, and F can
-    /// have roots there (the vertex passing beside the face), which no box
-    /// corner hull can exclude however thin the box. F is affine in (u,v) at
-    /// fixed t and affine in t at fixed (u,v), so over the box's part inside
-    /// the face its exact hull is spanned by the values at t_lo and t_hi at
-    /// the vertices of the polygon box ∩ {u + v <= 1}. Each crossing of the
-    /// edge is rounded outward along its box edge, so the polygon evaluated
-    /// contains the exact one; the values are computed exactly as corners are,
-    /// so the same error bounds apply. True when that hull misses a constraint.
-    bool excluded_within_face(const ParameterBox& box, const TermsAtTime at[2], const BoxImage& image) const {
-        if (!is_vertex_face_ || !(box.u_hi + box.v_hi > 1.0)) return false;
-        // fl(u + v) > 1 implies u + v > 1 exactly (1 is a double and rounding
-        // is monotone), so a corner dropped here is truly outside the face.
-        const bool low_high_inside = box.u_lo + box.v_hi <= 1.0;
-        const bool high_low_inside = box.u_hi + box.v_lo <= 1.0;
-        // The polygon contains the box corners inside the face: if those
-        // already straddle every constraint, so does the polygon (the usual
-        // case near a root), and there is nothing to evaluate.
-        const bool corner_inside[4] = {true, low_high_inside, high_low_inside, false};
-        auto straddled_by_inside_corners = [&](auto value_at, double bound) {
-            double lo = INFINITY, hi = -INFINITY;
-            for (int c = 0; c < 8; ++c) {
-                if (!corner_inside[c & 3]) continue;
-                lo = std::min(lo, value_at(c));
-                hi = std::max(hi, value_at(c));
-            }
-            return lo <= bound && hi >= -bound;
-        };
-        bool all_straddled = true;
-        for (int k = 0; k < 3 && all_straddled; ++k)
-            all_straddled = straddled_by_inside_corners(
-                [&](int c) { return image.corner[c >> 2][(c >> 1) & 1][c & 1][k]; }, bound_[k]);
-        for (int d = 0; d < direction_count_ && all_straddled; ++d)
-            all_straddled = straddled_by_inside_corners([&](int c) { return image.projected[d][c]; },
-                                                        directions_[d].bound);
-        if (all_straddled) return false;
-
-        double polygon[5][2];
-        int count = 0;
-        auto add = [&](double u, double v) {
-            polygon[count][0] = u;
-            polygon[count][1] = v;
-            ++count;
-        };
-        auto crossing = [](double fixed, double limit) {
-            // Smallest double >= 1 - fixed, kept on the box edge.
-            return std::min(limit, std::nextafter(1.0 - fixed, INFINITY));
-        };
-        add(box.u_lo, box.v_lo);
-        if (high_low_inside) {
-            add(box.u_hi, box.v_lo);
-            add(box.u_hi, crossing(box.u_hi, box.v_hi));
-        } else {
-            add(crossing(box.v_lo, box.u_hi), box.v_lo);
-        }
-        if (low_high_inside) {
-            add(crossing(box.v_hi, box.u_hi), box.v_hi);
-            add(box.u_lo, box.v_hi);
-        } else {
-            add(box.u_lo, crossing(box.u_lo, box.v_hi));
-        }
-        double values[10][3];
-        int value_count = 0;
-        for (int it = 0; it < 2; ++it) {
-            for (int i = 0; i < count; ++i) {
-                for (int k = 0; k < 3; ++k)
-                    values[value_count][k] = (at[it].w[k] - polygon[i][0] * at[it].e1[k]) - polygon[i][1] * at[it].e2[k];
-                ++value_count;
-            }
-        }
-        for (int k = 0; k < 3; ++k) {
-            double lo = INFINITY, hi = -INFINITY;
-            for (int i = 0; i < value_count; ++i) {
-                lo = std::min(lo, values[i][k]);
-                hi = std::max(hi, values[i][k]);
-            }
-            if (lo > bound_[k] || hi < -bound_[k]) return true;
-        }
-        for (int d = 0; d < direction_count_; ++d) {
-            const Direction& direction = directions_[d];
-            double lo = INFINITY, hi = -INFINITY;
-            for (int i = 0; i < value_count; ++i) {
-                const double g = direction.n[0] * values[i][0] + direction.n[1] * values[i][1] +
-                                 direction.n[2] * values[i][2];
-                lo = std::min(lo, g);
-                hi = std::max(hi, g);
-            }
-            if (lo > direction.bound || hi < -direction.bound) return true;
         }
         return false;
     }
