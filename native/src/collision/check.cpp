@@ -139,8 +139,8 @@ public:
     ProgressCallback for_window(size_t w) {
         if (!user_) return {};
         return [this, w](double t, int64_t contacts) {
-            if (cancelled_) throw WindowCancelled{};
             std::lock_guard<std::mutex> lock(mutex_);
+            if (cancelled_) throw WindowCancelled{};
             reached_[w] = std::clamp(t, windows_[w].begin, windows_[w].end);
             contacts_[w] = contacts;
             double covered = 0.0;
