@@ -23,6 +23,7 @@ from ..errors import UsdkslInputError
 from ..exit_codes import INPUT_ERROR
 from ..reports.output import write_files
 from ..scale.batch import expand_shots, make_jobs, run_batch, run_here, total_line, worst_exit_code
+from ..stopping import Stopped, deferred_stops, stop_on_signals
 from .options import parse_time_range
 
 
@@ -74,17 +75,21 @@ def _echo(line: str) -> None:
               help="Check the shots on a local Dask cluster of N worker processes.")
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
+              help="Stop after SECONDS: exit 2 with one line, and no files written for a shot not finished.")
 @click.option("--threads", type=click.IntRange(min=1), default=None, metavar="N",
               help="Threads per check (default: every core this process may use); results are identical for "
                    "any count.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, json_path, junit_path, strict, jobs, scheduler,
-          threads):
+          timeout, threads):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
     error (no output written for that shot); 3: the cross-check disagrees; the worst over all shots.
     The plan, warnings and the summary lines go to stderr; stdout only carries --json - .
+    Ctrl-C (SIGINT) and SIGTERM stop the check within a second or two with one line and exit 130 / 143;
+    files of a shot not finished are never written.
     """
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
@@ -92,9 +97,18 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
                            include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
                            strict=strict, threads=threads)
     shots = expand_shots(shots)
-    if len(shots) == 1 and jobs is None and scheduler is None:
-        _check_one(shots[0], options, out, json_path, junit_path)
-    _check_many(shots, options, out, json_path, junit_path, jobs, scheduler)
+    finished = []
+    try:
+        with stop_on_signals(timeout):
+            if len(shots) == 1 and jobs is None and scheduler is None:
+                _check_one(shots[0], options, out, json_path, junit_path)
+            _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, finished)
+    except Stopped as stop:
+        single = len(shots) == 1 and jobs is None and scheduler is None
+        done = ("nothing written" if single or not finished
+                else f"{len(finished)} of {len(shots)} shots finished (their files are written), the others not")
+        _echo(stop.line(done, shot=shots[0] if single else None))
+        sys.exit(stop.exit_code)
 
 
 def _check_one(shot, options, out, json_path, junit_path):
@@ -104,7 +118,6 @@ def _check_one(shot, options, out, json_path, junit_path):
         targets = output_targets(shot, out, json_path, junit_path)
         result = check_shot(shot, options, targets, on_message=lambda message: _echo(message.line()),
                             progress=Progress)
-        write_files(result.files)
     except UsdkslInputError as error:
         _echo(f"usdksl: error: {error}")
         sys.exit(error.exit_code)
@@ -114,14 +127,21 @@ def _check_one(shot, options, out, json_path, junit_path):
         _echo(f"usdksl: internal error: {type(error).__name__}: {' '.join(str(error).split())} "
               f"(set USDKSL_DEBUG=1 for a traceback)")
         sys.exit(INPUT_ERROR)
-    if result.stdout is not None:
-        sys.stdout.write(result.stdout)
-    _echo(result.summary)
-    sys.exit(result.exit_code)
+    with deferred_stops(drop=True):   # the answer is known: publish it, say so and end, uncut
+        try:
+            write_files(result.files)
+        except UsdkslInputError as error:
+            _echo(f"usdksl: error: {error}")
+            sys.exit(error.exit_code)
+        if result.stdout is not None:
+            sys.stdout.write(result.stdout)
+        _echo(result.summary)
+        sys.exit(result.exit_code)
 
 
-def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler):
-    """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total."""
+def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, finished):
+    """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
+    ``finished`` collects the outcomes shown (their files are written)."""
     from tqdm import tqdm
 
     if jobs is not None and scheduler is not None:
@@ -143,6 +163,7 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler):
                     bar.write(message.line(outcome.name), file=sys.stderr)
             bar.write(outcome.line(), file=sys.stderr)
             bar.update(1)
+            finished.append(outcome)
 
         try:
             outcomes = run_batch(entries, options, runner, on_outcome=show)
@@ -151,5 +172,6 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler):
     except UsdkslInputError as error:
         _echo(f"usdksl: error: {error}")
         sys.exit(error.exit_code)
-    _echo(total_line(outcomes))
-    sys.exit(worst_exit_code(outcomes))
+    with deferred_stops(drop=True):
+        _echo(total_line(outcomes))
+        sys.exit(worst_exit_code(outcomes))

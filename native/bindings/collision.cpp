@@ -80,12 +80,14 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     options.ccd.max_iterations = max_iterations;
     options.discrete_substeps = discrete_substeps;
     options.threads = threads;
-    if (!progress.is_none()) {
-        options.progress = [progress](double t, int64_t contacts) {
-            py::gil_scoped_acquire gil;
-            progress(t, contacts);
-        };
-    }
+    // Always called back, even without a progress object: with the GIL released Python's signal
+    // handlers only run here, so a Ctrl-C, a SIGTERM or a timeout raises in this callback and the
+    // exception unwinds through the core (docs/contracts.md, Stopping).
+    options.progress = [progress](double t, int64_t contacts) {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        if (!progress.is_none()) progress(t, contacts);
+    };
     CheckResult result;
     {
         py::gil_scoped_release release;

@@ -58,8 +58,14 @@ int32_t resolve_threads(int32_t requested) {
     return std::max(1, static_cast<int32_t>(std::thread::hardware_concurrency()));
 }
 
+/// Thrown in a window's thread once another window's progress call raised (a
+/// stop request): every thread unwinds at its next progress call instead of
+/// finishing its window.
+struct WindowCancelled {};
+
 /// Runs body(i) for i in [0, count) on up to `threads` threads (the caller's
-/// included), handing out indices in order; rethrows the first exception.
+/// included), handing out indices in order; rethrows the first exception
+/// (a WindowCancelled only follows another one and is not reported).
 template <typename Body>
 void parallel_for(int32_t threads, int32_t count, Body body) {
     std::atomic<int32_t> next{0};
@@ -69,6 +75,8 @@ void parallel_for(int32_t threads, int32_t count, Body body) {
         for (int32_t i = next++; i < count; i = next++) {
             try {
                 body(i);
+            } catch (const WindowCancelled&) {
+                next = count;
             } catch (...) {
                 std::lock_guard<std::mutex> lock(failure_mutex);
                 if (!failure) failure = std::current_exception();
@@ -133,6 +141,7 @@ public:
         if (!user_) return {};
         return [this, w](double t, int64_t contacts) {
             std::lock_guard<std::mutex> lock(mutex_);
+            if (cancelled_) throw WindowCancelled{};
             reached_[w] = std::clamp(t, windows_[w].begin, windows_[w].end);
             contacts_[w] = contacts;
             double covered = 0.0;
@@ -141,7 +150,12 @@ public:
                 covered += reached_[i] - windows_[i].begin;
                 total += contacts_[i];
             }
-            user_(windows_.front().begin + covered, total);
+            try {
+                user_(windows_.front().begin + covered, total);
+            } catch (...) {
+                cancelled_ = true;
+                throw;
+            }
         };
     }
 
@@ -149,6 +163,7 @@ private:
     const ProgressCallback& user_;
     const std::vector<TimeWindow>& windows_;
     std::mutex mutex_;
+    std::atomic<bool> cancelled_{false};
     std::vector<double> reached_;
     std::vector<int64_t> contacts_;
 };
@@ -201,7 +216,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         result.contacts = options.method == Method::Discrete
                               ? tester.sorted_contacts()
                               : confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
-                                                       options.t_end, result.counters);
+                                                       options.t_end, result.counters, options.progress);
         return result;
     }
     // Windows are checked independently, each on its own copy of the scene
@@ -237,7 +252,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         }
         const Scene raw_local(*raw_scene);
         confirmed[w] = confirm_on_raw_scene(raw_local, candidates[w], options.ccd, windows[w].begin, windows[w].end,
-                                            counters[w]);
+                                            counters[w], progress.for_window(static_cast<size_t>(w)));
     });
     for (const Counters& c : counters) add_counters(result.counters, c);
     result.contacts = merge_windows(confirmed);

@@ -30,6 +30,9 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
     }
 }
 
+/// Candidates confirmed between two progress calls (where a stop request is raised).
+constexpr int64_t kProgressEveryCandidates = 1 << 7;
+
 } // namespace
 
 void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Contact>& candidates,
@@ -40,9 +43,15 @@ void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Cont
 
 std::vector<Contact> confirm_on_raw_scene(const Scene& raw_scene, const std::vector<Contact>& candidates,
                                           const CCDSettings& settings, double t_begin, double t_end,
-                                          Counters& counters) {
+                                          Counters& counters, const ProgressCallback& progress) {
     TrianglePairTester raw(raw_scene, confirming(settings), counters);
-    for (const Contact& c : candidates) first_raw_contact(raw, c, c.time, t_begin, t_end);
+    int64_t done = 0;
+    for (const Contact& c : candidates) {
+        if (progress && (++done % kProgressEveryCandidates) == 0) {
+            progress(t_end, static_cast<int64_t>(raw.contacts().size()));
+        }
+        first_raw_contact(raw, c, c.time, t_begin, t_end);
+    }
     counters.raw_confirmations += static_cast<int64_t>(candidates.size());
     counters.raw_rejections += static_cast<int64_t>(candidates.size()) - static_cast<int64_t>(raw.contacts().size());
     return raw.sorted_contacts();
@@ -50,12 +59,12 @@ std::vector<Contact> confirm_on_raw_scene(const Scene& raw_scene, const std::vec
 
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
-                                            Counters& counters) {
+                                            Counters& counters, const ProgressCallback& progress) {
     if (candidates.empty()) return {};
     std::vector<FlightplanKind> kinds;
     mark_meshes_to_confirm(candidate_scene, candidates, kinds);
     const Scene raw_scene(candidate_scene.meshes, kinds);
-    return confirm_on_raw_scene(raw_scene, candidates, settings, t_begin, t_end, counters);
+    return confirm_on_raw_scene(raw_scene, candidates, settings, t_begin, t_end, counters, progress);
 }
 
 } // namespace usdksl

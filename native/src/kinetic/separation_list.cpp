@@ -11,6 +11,11 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int64_t kProgressEveryEvents = 1 << 14;
+/// Progress (where a stop request is raised) also comes after so many entries
+/// scheduled or narrow-phase runs: one event can cost many narrow-phase steps
+/// or reschedule every entry of a box, and setting up the lists (one expansion
+/// of a whole self-overlapping tree) has no events at all.
+constexpr int64_t kProgressEveryWork = 1 << 8;
 constexpr double kNothingTested = -1e300;
 
 /// Steps an overlapping leaf pair's narrow phase covers per event before the
@@ -308,6 +313,13 @@ void KineticSeparationLists::cover(Entry& e, double t, double until, int64_t max
         tester_.test_steps(list.mesh_a, tri_a, list.mesh_b, tri_b, std::max(t, e.tested_until), until, true, max_steps);
     e.tested_until = run.tested_until;
     if (run.hit) e.inert = true;
+    worked(t);
+}
+
+void KineticSeparationLists::worked(double t) {
+    if (progress_ && *progress_ && (++work_ % kProgressEveryWork) == 0) {
+        (*progress_)(t, static_cast<int64_t>(tester_.contacts().size()));
+    }
 }
 
 bool KineticSeparationLists::share_vertex(int32_t mesh, int32_t tri_a, int32_t tri_b) const {
@@ -325,6 +337,7 @@ uint64_t KineticSeparationLists::tester_key(const List& list, int32_t a, int32_t
 }
 
 void KineticSeparationLists::schedule(int32_t id, double t) {
+    worked(t);
     Entry& e = entries_[id];
     const List& list = lists_[e.list];
     double when = kInfinity;
@@ -466,6 +479,7 @@ void KineticSeparationLists::process_tree_event(int64_t handle, double t) {
 }
 
 void KineticSeparationLists::run(const ProgressCallback& progress) {
+    progress_ = &progress;
     for (size_t m = 0; m < trees_.size(); ++m) {
         if (!trees_[m]) continue;
         const int32_t nodes = trees_[m]->topology().node_count();
@@ -500,6 +514,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
             progress(t, static_cast<int64_t>(tester_.contacts().size()));
         }
     }
+    progress_ = nullptr;
 }
 
 } // namespace usdksl

@@ -7,6 +7,7 @@
 #include "usdksl/ccd/ccd_settings.hpp"
 #include "usdksl/collision/contact.hpp"
 #include "usdksl/collision/counters.hpp"
+#include "usdksl/collision/check.hpp"
 #include "usdksl/collision/scene.hpp"
 
 #include <vector>
@@ -34,7 +35,7 @@ constexpr double CONFIRMATION_TOLERANCE_FACTOR = 1e-3;
 /// @return The confirmed contacts sorted by contact_before.
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
-                                            Counters& counters);
+                                            Counters& counters, const ProgressCallback& progress = {});
 
 /// @brief Marks (as RawSamples in `kinds`, sized to the scene's meshes) every
 ///        mesh that a candidate involves.
@@ -46,6 +47,6 @@ void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Cont
 ///        a per-thread copy.
 std::vector<Contact> confirm_on_raw_scene(const Scene& raw_scene, const std::vector<Contact>& candidates,
                                           const CCDSettings& settings, double t_begin, double t_end,
-                                          Counters& counters);
+                                          Counters& counters, const ProgressCallback& progress = {});
 
 } // namespace usdksl

@@ -99,6 +99,8 @@ private:
     // Events
     void process_tree_event(int64_t handle, double t);
     void process_entry_event(int32_t id, double t);
+    /// @brief Counts one unit of work; calls progress every kProgressEveryWork units.
+    void worked(double t);
     void node_changed(int32_t mesh, int32_t node, int slot);
 
     std::vector<NodeRef>& node_entries(int32_t mesh, int32_t node) { return node_entries_[mesh][node]; }
@@ -108,6 +110,8 @@ private:
     Counters& counters_;
     double t_begin_, t_end_, thickness_;
     bool initializing_ = false;
+    const ProgressCallback* progress_ = nullptr;  // set while run() runs
+    int64_t work_ = 0;                            // entries scheduled and narrow-phase runs
 
     std::vector<std::unique_ptr<KineticAabbTree>> trees_;  // per mesh, null when unused
     std::vector<int64_t> tree_handle_base_;                // per mesh
