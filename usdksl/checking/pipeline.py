@@ -27,6 +27,7 @@ from ..reading.loader import load_shot, mesh_prims, open_stage
 from ..reading.scope import Plan, ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
 from ..reading.segments import full_range, is_topology_change, split_range, topology_gaps
 from ..reports.formats import contacts_csv, json_report, junit_report, summary_csv, summary_line
+from ..reports.manifest import file_sha256, manifest_name, manifest_text
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import build_override_layer, shot_stem
 from ..version import __version__
@@ -121,6 +122,9 @@ class OutputTargets:
 
     def crosscheck_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.crosscheck.csv"
+
+    def manifest(self, shot: str) -> Path:
+        return self.out_dir / manifest_name(shot_stem(shot))
 
 
 def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str] = None,
@@ -240,19 +244,40 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     table = ContactTable.concatenate(tables)
 
     exit_code = CONTACTS_FOUND if table.count else CLEAN
+    crosscheck_text = None
+    if options.crosscheck:
+        crosscheck_text, consistent = _crosscheck(segments, plans, tables, say)
+        if not consistent:
+            exit_code = CROSSCHECK_DISAGREES
+    files, stdout = render_files(shot, name, options, targets, segments, plan, tables, exit_code, span,
+                                 crosscheck_text)
+    return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
+                       seconds=time.monotonic() - started, counters=counters,
+                       messages=messages, files=files, stdout=stdout,
+                       segments=[(r, t) for (r, _), t in zip(segments, tables)])
+
+
+def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
+                 tables: Sequence[ContactTable], exit_code: int, span: TimeRange,
+                 crosscheck_text: Optional[str] = None) -> Tuple[Dict[Path, str], Optional[str]]:
+    """({target: text} of every file of a check, the JSON text for stdout or None), in write order.
+
+    ``segments``: [(range, loaded Shot)] as :func:`load_segments` gives them, ``tables`` the contacts of
+    each. A run over a time range (a farm chunk) also writes its manifest (usdksl.reports.manifest)."""
+    table = ContactTable.concatenate(list(tables))
     files: Dict[Path, str] = {}
     files[targets.contacts_csv(shot)] = contacts_csv(table)
     files[targets.summary_csv(shot)] = summary_csv(table)
-    if options.crosscheck:
-        crosscheck_text, consistent = _crosscheck(segments, plans, tables, say)
+    if crosscheck_text is not None:
         files[targets.crosscheck_csv(shot)] = crosscheck_text
-        if not consistent:
-            exit_code = CROSSCHECK_DISAGREES
     layer_path = targets.override_layer(shot)
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
     files[layer_path] = build_override_layer(
-        loaded, checked_meshes, table, layer_path,
+        segments[0][1], checked_meshes, table, layer_path,
         segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1 else None)
+    if options.time_range is not None:
+        files[targets.manifest(shot)] = manifest_text(name, file_sha256(shot), options.settings(), span, plan,
+                                                      len(segments), __version__)
     stdout = None
     if targets.json_path is not None or targets.json_to_stdout:
         json_text = json_report(name, options.settings(), plan, table, exit_code, version=__version__)
@@ -262,10 +287,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             stdout = json_text
     if targets.junit_path is not None:
         files[targets.junit_path] = junit_report(name, plan, table)
-    return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
-                       seconds=time.monotonic() - started, counters=counters,
-                       messages=messages, files=files, stdout=stdout,
-                       segments=[(r, t) for (r, _), t in zip(segments, tables)])
+    return files, stdout
 
 
 def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[str, str], None],

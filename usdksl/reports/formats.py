@@ -14,7 +14,7 @@ summary.csv   ``prim_a,prim_b,kind,first_contact_time,face_pairs``: one row per 
 from __future__ import annotations
 
 import json
-from typing import Optional
+from typing import Optional, Sequence
 from xml.etree import ElementTree
 
 import numpy as np
@@ -119,3 +119,41 @@ def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds
     first = float(table.time[0])
     return (f"usdksl: {table.count} contacting face pair{'s' if table.count != 1 else ''} in {pairs} mesh "
             f"pair{'s' if pairs != 1 else ''}, first at t={first!r}; {checked}")
+
+
+def read_contacts_table(path, paths) -> ContactTable:
+    """A contacts.csv written by usdksl read back as a table over the meshes ``paths`` (exact: times are
+    ``repr(float)``). Raises UsdkslInputError naming the file and row on anything else: another header,
+    a prim that is not among ``paths``, a face or feature that does not parse."""
+    import csv
+
+    from ..contacts import FEATURE_NAMES
+    from ..errors import UsdkslInputError
+
+    name = str(path)
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            rows = list(csv.reader(handle))
+    except (OSError, UnicodeDecodeError) as error:
+        raise UsdkslInputError(f"cannot read contacts: {getattr(error, 'strerror', None) or error}",
+                               file=name) from None
+    if not rows or tuple(rows[0][:len(CONTACT_COLUMNS)]) != CONTACT_COLUMNS:
+        raise UsdkslInputError(f"not a usdksl contacts.csv (header {','.join(CONTACT_COLUMNS)} expected)",
+                               file=name)
+    body = np.array([row[:len(CONTACT_COLUMNS)] for row in rows[1:] if row], dtype=object).reshape(
+        -1, len(CONTACT_COLUMNS))
+
+    def codes(column: np.ndarray, vocabulary: Sequence[str]) -> np.ndarray:
+        # one dictionary look-up per distinct word, not per row
+        distinct, inverse = np.unique(column.astype(str), return_inverse=True)
+        index = {word: code for code, word in enumerate(vocabulary)}
+        return np.array([index[word] for word in distinct.tolist()], dtype=np.int64)[inverse.reshape(-1)]
+
+    try:
+        time = body[:, 0].astype(np.float64)
+        face_a, face_b = body[:, 2].astype(np.int64), body[:, 4].astype(np.int64)
+        mesh = codes(np.concatenate([body[:, 1], body[:, 3]]), list(paths)) if len(body) else np.zeros(0, np.int64)
+        feature = codes(body[:, 6], FEATURE_NAMES).astype(np.int8) if len(body) else np.zeros(0, np.int8)
+    except (ValueError, KeyError) as error:
+        raise UsdkslInputError(f"unreadable row: {error}", file=name) from None
+    return ContactTable.from_rows(paths, time, mesh[:len(body)], face_a, mesh[len(body):], face_b, feature)

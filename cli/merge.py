@@ -1,0 +1,41 @@
+"""``usdksl merge SHOT PART_DIR... --out DIR``: farm chunks of one shot joined into one run's outputs."""
+
+import sys
+
+import click
+
+from ..checking.pipeline import output_targets
+from ..errors import UsdkslInputError
+from ..reports.output import write_files
+from ..scale.merge import merge_chunks
+
+
+@click.command()
+@click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("parts", nargs=-1, required=True, metavar="PART_DIR...",
+                type=click.Path(file_okay=False, path_type=str))
+@click.option("--out", "out", type=click.Path(path_type=str), default=None,
+              help="Directory for the merged files (default: beside SHOT; created when missing).")
+@click.option("--json", "json_path", metavar="FILE", default=None,
+              help="Also write the JSON report of the merged run; '-' for stdout.")
+@click.option("--junit", "junit_path", metavar="FILE", default=None,
+              help="Also write the JUnit XML report of the merged run.")
+def merge(shot, parts, out, json_path, junit_path):
+    """Join the outputs of `usdksl check SHOT --time-range A B --out PART_DIR` chunks into what one run over
+    the union of their ranges writes.
+
+    Refuses (exit 2, one line) chunks that leave a gap, overlap with different answers, or come from
+    another shot, usdksl version or set of options. Exit 0 clean, 1 contacts found.
+    """
+    try:
+        targets = output_targets(shot, out, json_path, junit_path)
+        result = merge_chunks(shot, parts, targets)
+        write_files(result.files)
+    except UsdkslInputError as error:
+        click.echo(f"usdksl: error: {error}", err=True)
+        sys.exit(error.exit_code)
+    if result.stdout is not None:
+        sys.stdout.write(result.stdout)
+    click.echo(f"usdksl: merged {len(parts)} chunk{'s' if len(parts) != 1 else ''}: {result.summary[8:]}",
+               err=True)
+    sys.exit(result.exit_code)
