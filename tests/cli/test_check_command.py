@@ -17,6 +17,7 @@ from pxr import Ts, Usd, UsdGeom, Vt
 from usdksl.cli.main import main
 from usdksl.checking.collision import find_contacts
 from usdksl.reading.loader import load_shot
+from usdksl.clock import StageClock
 from usdksl.contacts import ContactTable
 from usdksl.reports.formats import contacts_csv
 from usdksl.reading.scope import plan_shot
@@ -57,7 +58,7 @@ def test_samples_exit_codes_outputs_and_determinism(sample, tmp_path):
         two = (tmp_path / "two" / f"{name}.{suffix}").read_bytes()
         assert one == two, suffix
     rows = (tmp_path / "one" / f"{name}.contacts.csv").read_text().splitlines()
-    assert rows[0] == "time,prim_a,face_a,prim_b,face_b,kind,feature"
+    assert rows[0] == "time,prim_a,face_a,prim_b,face_b,kind,feature,frame,seconds"
     assert (len(rows) > 1) == (first.exit_code == 1)
     assert sha256(path) == before
     assert first.stderr.splitlines()[-1].startswith("usdksl: ")
@@ -73,7 +74,7 @@ def test_samples_contacts_equal_the_brute_force_reference(sample, tmp_path):
     reference = find_contacts(shot.meshes, plan.pairs, method="brute")
     expected = ContactTable.from_face_contacts(reference.face_contacts(shot.meshes), [m.path for m in shot.meshes])
     ours = _csv_rows((tmp_path / f"{name}.contacts.csv").read_text())
-    theirs = _csv_rows(contacts_csv(expected))
+    theirs = _csv_rows(contacts_csv(expected, StageClock.from_metadata(shot.metadata)))
     # Same face pairs, kinds and features; brute force reads the raw samples while KSL
     # merges collinear flightplan segments, so times agree within the CCD tolerance of a step.
     assert sorted(ours) == sorted(theirs)
@@ -353,7 +354,7 @@ def test_entry_point_on_a_shot_with_contacts(two_quads_shot, tmp_path):
     assert completed.stdout == ""
     assert "\r" not in completed.stderr                     # no progress bar in CI / pipes
     last = completed.stderr.splitlines()[-1]
-    assert last.startswith("usdksl: ") and "first at t=" in last
+    assert last.startswith("usdksl: ") and "first at frame 11.5 (t=12.5)" in last
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == [
         "two_quads.contacts.csv", "two_quads.summary.csv", "two_quads.usdksl.usda"]
 

@@ -18,6 +18,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from ..clock import StageClock
 from ..contacts import ContactTable
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
@@ -160,6 +161,8 @@ class CheckResult:
     files: Dict[Path, str]
     stdout: Optional[str] = None
     segments: List[Tuple[Optional[TimeRange], ContactTable]] = field(default_factory=list)
+    #: Frames and seconds of the shot's time codes (its stage metadata).
+    clock: StageClock = StageClock()
 
     @property
     def undecided(self) -> int:
@@ -169,7 +172,7 @@ class CheckResult:
     @property
     def summary(self) -> str:
         """The final line of ``usdksl check``."""
-        return summary_line(self.table, self.plan, self.span, self.seconds)
+        return summary_line(self.table, self.plan, self.span, self.seconds, self.clock)
 
 
 ProgressFactory = Callable[[float, float], Callable[[float, int], None]]
@@ -254,7 +257,8 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,
-                       segments=[(r, t) for (r, _), t in zip(segments, tables)])
+                       segments=[(r, t) for (r, _), t in zip(segments, tables)],
+                       clock=StageClock.from_metadata(loaded.metadata))
 
 
 def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
@@ -265,9 +269,10 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     ``segments``: [(range, loaded Shot)] as :func:`load_segments` gives them, ``tables`` the contacts of
     each. A run over a time range (a farm chunk) also writes its manifest (usdksl.reports.manifest)."""
     table = ContactTable.concatenate(list(tables))
+    clock = StageClock.from_metadata(segments[0][1].metadata)
     files: Dict[Path, str] = {}
-    files[targets.contacts_csv(shot)] = contacts_csv(table)
-    files[targets.summary_csv(shot)] = summary_csv(table)
+    files[targets.contacts_csv(shot)] = contacts_csv(table, clock)
+    files[targets.summary_csv(shot)] = summary_csv(table, clock)
     if crosscheck_text is not None:
         files[targets.crosscheck_csv(shot)] = crosscheck_text
     layer_path = targets.override_layer(shot)
@@ -280,13 +285,13 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
                                                       len(segments), __version__)
     stdout = None
     if targets.json_path is not None or targets.json_to_stdout:
-        json_text = json_report(name, options.settings(), plan, table, exit_code, version=__version__)
+        json_text = json_report(name, options.settings(), plan, table, exit_code, clock, version=__version__)
         if targets.json_path is not None:
             files[targets.json_path] = json_text
         else:
             stdout = json_text
     if targets.junit_path is not None:
-        files[targets.junit_path] = junit_report(name, plan, table)
+        files[targets.junit_path] = junit_report(name, plan, table, clock)
     return files, stdout
 
 

@@ -19,6 +19,7 @@ from typing import List, Sequence, Tuple
 import numpy as np
 
 from ..checking.pipeline import CheckOptions, CheckResult, OutputTargets, load_segments, render_files
+from ..clock import StageClock
 from ..contacts import ContactTable
 from ..errors import UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND
@@ -174,7 +175,7 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> C
     files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span)
     return CheckResult(shot=shot, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=0.0, counters={}, messages=[], files=files, stdout=stdout,
-                       segments=[(span, table)])
+                       segments=[(span, table)], clock=StageClock.from_metadata(loaded.metadata))
 
 
 __all__ = ["Chunk", "check_overlap", "merge_chunks", "read_chunks"]
