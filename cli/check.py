@@ -60,6 +60,9 @@ def _echo(line: str) -> None:
 @click.option("--crosscheck", is_flag=True,
               help="Also intersect every sample with Embree and check it against the contacts "
                    "(writes <stem>.crosscheck.csv; exit 3 when they disagree).")
+@click.option("--last-contact", is_flag=True,
+              help="Also find when each face pair last touches (the shot checked a second time, played "
+                   "backwards: about twice the time). Adds last_time,last_frame,last_seconds columns.")
 @click.option("--json", "json_path", metavar="FILE", default=None,
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
@@ -72,7 +75,8 @@ def _echo(line: str) -> None:
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, json_path, junit_path, strict, jobs, scheduler):
+          include_guides, include_invisible, crosscheck, last_contact, json_path, junit_path, strict, jobs,
+          scheduler):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -82,7 +86,8 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
-                           include_invisible=include_invisible, crosscheck=crosscheck, strict=strict)
+                           include_invisible=include_invisible, crosscheck=crosscheck, last_contact=last_contact,
+                           strict=strict)
     shots = expand_shots(shots)
     if len(shots) == 1 and jobs is None and scheduler is None:
         _check_one(shots[0], options, out, json_path, junit_path)

@@ -33,6 +33,7 @@ from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import build_override_layer, shot_stem
 from ..version import __version__
 from .collision import METHODS, find_contacts
+from .last_contact import last_contacts
 
 TimeRange = Tuple[float, float]
 
@@ -41,6 +42,9 @@ PLAN = "plan"
 INFO = "info"
 WARNING = "warning"
 ERROR = "error"
+
+#: How the progress bar of the backwards run (last contacts) is labelled; it shows reversed time codes.
+REVERSE_PROGRESS_LABEL = "last contacts, reversed time"
 
 #: CheckResult.counters entry: triangle pairs reported as contacts because the narrow phase hit its cap.
 UNDECIDED_COUNTER = "undecided_triangle_pairs"
@@ -75,6 +79,9 @@ class CheckOptions:
     include_guides: bool = False
     include_invisible: bool = False
     crosscheck: bool = False
+    #: Also find each face pair's last contact by checking the shot played backwards
+    #: (usdksl.checking.last_contact): a second run of the core, about as long as the first.
+    last_contact: bool = False
     #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
     #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
     strict: bool = False
@@ -99,7 +106,7 @@ class CheckOptions:
                 "self": self.self_check, "inter": self.inter_check,
                 "time_range": list(self.time_range) if self.time_range else None,
                 "prims": list(include), "exclude": list(excluded), "include_guides": self.include_guides,
-                "include_invisible": self.include_invisible}
+                "include_invisible": self.include_invisible, "last_contact": self.last_contact}
 
 
 @dataclass(frozen=True)
@@ -175,7 +182,8 @@ class CheckResult:
         return summary_line(self.table, self.plan, self.span, self.seconds, self.clock)
 
 
-ProgressFactory = Callable[[float, float], Callable[[float, int], None]]
+#: progress(start, end, label="") -> callback(time_reached, contacts_so_far), e.g. usdksl.checking.progress.Progress
+ProgressFactory = Callable[..., Callable[[float, int], None]]
 
 
 def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optional[OutputTargets] = None,
@@ -188,8 +196,8 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     ``targets`` says where the files would go (default: beside the shot, no JSON or JUnit); it only
     names them (the override layer sublayers the shot by a path relative to its folder). ``on_message``
     receives each plan line and warning as it is known (they are also in ``result.messages``).
-    ``progress(start, end)`` makes the progress callback of the core for the checked span (an object
-    with an optional ``close()``). Raises UsdkslInputError / UsdkslUsageError on bad input.
+    ``progress(start, end, label="")`` makes the progress callback of the core for the checked span (an
+    object with an optional ``close()``); with ``last_contact`` a second one follows the backwards run. Raises UsdkslInputError / UsdkslUsageError on bad input.
     """
     started = time.monotonic()
     name = name or shot
@@ -231,6 +239,9 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
         all_times = np.concatenate([segment.times for _, segment in segments])
         span = (float(all_times.min()), float(all_times.max())) if all_times.size else (0.0, 0.0)
     bar = progress(span[0], span[1]) if progress is not None else None
+    # the backwards run of --last-contact goes from -end to -start
+    reverse_bar = (progress(-span[1], -span[0], label=REVERSE_PROGRESS_LABEL)
+                   if progress is not None and options.last_contact else None)
     tables = []
     counters: Dict[str, int] = {}
     try:
@@ -238,10 +249,14 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             contacts_before = sum(table.count for table in tables)
             report = None if bar is None else (
                 lambda reached, count, before=contacts_before: bar(reached, before + count))
-            tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters))
+            reverse_report = None if reverse_bar is None else (
+                lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
+            tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
+                                        reverse_report))
     finally:
-        if bar is not None and hasattr(bar, "close"):
-            bar.close()
+        for shown in (bar, reverse_bar):
+            if shown is not None and hasattr(shown, "close"):
+                shown.close()
     if not plan.checked_pairs:
         say(WARNING, "no mesh pair left to check")
     table = ContactTable.concatenate(tables)
@@ -339,9 +354,11 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
 def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], options: CheckOptions,
                   progress: Optional[Callable[[float, int], None]] = None,
                   say: Optional[Callable[[str, str], None]] = None,
-                  counters: Optional[Dict[str, int]] = None) -> ContactTable:
-    """Face contacts of one constant-topology stretch. Adds the core's work counters (and
-    UNDECIDED_COUNTER) to ``counters`` and warns through ``say`` about undecided triangle pairs."""
+                  counters: Optional[Dict[str, int]] = None,
+                  reverse_progress: Optional[Callable[[float, int], None]] = None) -> ContactTable:
+    """Face contacts of one constant-topology stretch (with last contacts when ``options.last_contact``;
+    ``reverse_progress`` then follows the backwards run in reversed time). Adds the core's work counters
+    (and UNDECIDED_COUNTER) to ``counters`` and warns through ``say`` about undecided triangle pairs."""
     paths = [mesh.path for mesh in segment.meshes]
     if not plan.checked_pairs:
         return ContactTable.empty(paths)
@@ -354,7 +371,18 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
     if undecided and say is not None:
         say(WARNING, f"{undecided} triangle pairs could not be separated within the tolerance "
                      f"and are reported as contacts (conservative)")
-    return result.face_contacts(segment.meshes)
+    table = result.face_contacts(segment.meshes)
+    if not options.last_contact:
+        return table
+    last = last_contacts(segment.meshes, plan.pairs, table, segment_range, options.method, options.tolerance,
+                         options.thickness, progress=reverse_progress)
+    if say is not None and last.missing_in_reverse:
+        say(WARNING, f"{last.missing_in_reverse} face pairs were not found played backwards; their last "
+                     f"contact is reported at their first")
+    if say is not None and last.only_in_reverse:
+        say(WARNING, f"{last.only_in_reverse} face pairs touch played backwards but not forwards; the "
+                     f"forward (first-contact) result is reported")
+    return table.with_last_times(last.last_time)
 
 
 def _crosscheck(segments, plans: Sequence[Plan], tables: Sequence[ContactTable], say) -> Tuple[str, bool]:
