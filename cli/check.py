@@ -17,11 +17,13 @@ import click
 
 from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..checking.collision import METHODS
-from ..checking.pipeline import ERROR, WARNING, CheckOptions, check_shot, output_targets
+from ..baseline import baseline_for_shot
+from ..checking.pipeline import ERROR, RESULT, WARNING, CheckOptions, check_shot, output_targets
 from ..checking.progress import Progress, progress_enabled
-from ..errors import UsdkslInputError
+from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import INPUT_ERROR
 from ..reports.output import write_files
+from ..reports.override import shot_stem
 from ..scale.batch import expand_shots, make_jobs, run_batch, run_here, total_line, worst_exit_code
 from .options import parse_time_range
 
@@ -63,6 +65,12 @@ def _echo(line: str) -> None:
 @click.option("--last-contact", is_flag=True,
               help="Also find when each face pair last touches (the shot checked a second time, played "
                    "backwards: about twice the time). Adds last_time,last_frame,last_seconds columns.")
+@click.option("--baseline", "baseline", metavar="PATH", default=None,
+              help="Contacts accepted earlier: a contacts.csv of an earlier run or an accept list "
+                   "(prim_a,face_a,prim_b,face_b[,time]; face '*' = any), or a folder of <stem>.contacts.csv "
+                   "for several shots. Only new contacts count for the exit code.")
+@click.option("--baseline-time-tolerance", type=float, default=None, metavar="T",
+              help="Also require a baseline entry's time to be within T time codes of the contact's.")
 @click.option("--json", "json_path", metavar="FILE", default=None,
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
@@ -75,8 +83,8 @@ def _echo(line: str) -> None:
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, last_contact, json_path, junit_path, strict, jobs,
-          scheduler):
+          include_guides, include_invisible, crosscheck, last_contact, baseline, baseline_time_tolerance,
+          json_path, junit_path, strict, jobs, scheduler):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -90,17 +98,22 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
                            strict=strict)
     shots = expand_shots(shots)
     if len(shots) == 1 and jobs is None and scheduler is None:
-        _check_one(shots[0], options, out, json_path, junit_path)
-    _check_many(shots, options, out, json_path, junit_path, jobs, scheduler)
+        _check_one(shots[0], options, out, json_path, junit_path, baseline, baseline_time_tolerance)
+    _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance)
 
 
-def _check_one(shot, options, out, json_path, junit_path):
+def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_time_tolerance):
     """One shot in this process: the plan and warnings as they come, a progress bar over the shot's time."""
     try:
         options.validate()
         targets = output_targets(shot, out, json_path, junit_path)
+        if baseline is not None and not os.path.exists(baseline):
+            raise UsdkslUsageError("baseline not found", file=baseline)
+        accepted, warning = baseline_for_shot(baseline, shot_stem(shot), baseline_time_tolerance)
+        if warning is not None:
+            _echo(f"usdksl: warning: {warning}")
         result = check_shot(shot, options, targets, on_message=lambda message: _echo(message.line()),
-                            progress=Progress)
+                            progress=Progress, baseline=accepted)
         write_files(result.files)
     except UsdkslInputError as error:
         _echo(f"usdksl: error: {error}")
@@ -117,7 +130,7 @@ def _check_one(shot, options, out, json_path, junit_path):
     sys.exit(result.exit_code)
 
 
-def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler):
+def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total."""
     from tqdm import tqdm
 
@@ -125,7 +138,7 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler):
         raise click.UsageError("give --jobs or --scheduler, not both")
     try:
         options.validate()
-        entries = make_jobs(shots, out, json_path, junit_path)
+        entries = make_jobs(shots, out, json_path, junit_path, baseline, baseline_time_tolerance)
         if jobs is None and scheduler is None:
             runner = run_here
         else:
@@ -136,7 +149,7 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler):
 
         def show(outcome):
             for message in outcome.messages:
-                if message.level in (WARNING, ERROR):
+                if message.level in (RESULT, WARNING, ERROR):
                     bar.write(message.line(outcome.name), file=sys.stderr)
             bar.write(outcome.line(), file=sys.stderr)
             bar.update(1)

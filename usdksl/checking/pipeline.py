@@ -17,6 +17,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..baseline import Baseline, BaselineComparison, compare
 from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..clock import StageClock
 from ..contacts import ContactTable
@@ -37,11 +38,17 @@ from .last_contact import last_contacts
 
 TimeRange = Tuple[float, float]
 
-# Message levels: how a line is shown (``usdksl: warning: ...``) and whether a batch of shots shows it.
+# Message levels: how a line is shown (``usdksl: warning: ...``) and at which verbosity (cli/check.py):
+# plan and info lines with -v; results (the baseline's new and fixed contacts) and warnings by default;
+# errors always.
 PLAN = "plan"
 INFO = "info"
+RESULT = "result"
 WARNING = "warning"
 ERROR = "error"
+#: Baseline lines shown by default (new face pairs, fixed entries, each); -v shows up to BASELINE_LINES_VERBOSE.
+BASELINE_LINES_SHOWN = 5
+BASELINE_LINES_VERBOSE = 200
 
 #: How the progress bar of the backwards run (last contacts) is labelled; it shows reversed time codes.
 REVERSE_PROGRESS_LABEL = "last contacts, reversed time"
@@ -170,6 +177,8 @@ class CheckResult:
     segments: List[Tuple[Optional[TimeRange], ContactTable]] = field(default_factory=list)
     #: Frames and seconds of the shot's time codes (its stage metadata).
     clock: StageClock = StageClock()
+    #: The contacts held against a baseline (None without one).
+    baseline: Optional[BaselineComparison] = None
 
     @property
     def undecided(self) -> int:
@@ -179,7 +188,9 @@ class CheckResult:
     @property
     def summary(self) -> str:
         """The final line of ``usdksl check``."""
-        return summary_line(self.table, self.plan, self.span, self.seconds, self.clock)
+        return summary_line(self.table, self.plan, self.span, self.seconds, self.clock,
+                            None if self.baseline is None else self.baseline.known,
+                            None if self.baseline is None else self.baseline.fixed_count)
 
 
 #: progress(start, end, label="") -> callback(time_reached, contacts_so_far), e.g. usdksl.checking.progress.Progress
@@ -188,8 +199,12 @@ ProgressFactory = Callable[..., Callable[[float, int], None]]
 
 def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optional[OutputTargets] = None,
                on_message: Optional[Callable[[Message], None]] = None,
-               progress: Optional[ProgressFactory] = None, name: Optional[str] = None) -> CheckResult:
+               progress: Optional[ProgressFactory] = None, name: Optional[str] = None,
+               baseline: Optional[Baseline] = None) -> CheckResult:
     """Check ``shot`` (a USD file) and render its reports; write nothing.
+
+    ``baseline`` (usdksl.checking.baseline): contacts it knows do not count for the exit code; the
+    reports mark each contact new or known and list the entries that no longer occur.
 
     ``name`` is how reports and messages name the shot (default: ``shot``; a Dask worker reads an absolute
     path but names the shot as the user gave it).
@@ -260,25 +275,32 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     if not plan.checked_pairs:
         say(WARNING, "no mesh pair left to check")
     table = ContactTable.concatenate(tables)
+    clock = StageClock.from_metadata(loaded.metadata)
+    comparison = None
+    if baseline is not None:
+        comparison = compare(table, baseline)
+        for level, text in baseline_messages(comparison, clock):
+            say(level, text)
 
-    exit_code = CONTACTS_FOUND if table.count else CLEAN
+    exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
     crosscheck_text = None
     if options.crosscheck:
         crosscheck_text, consistent = _crosscheck(segments, plans, tables, say)
         if not consistent:
             exit_code = CROSSCHECK_DISAGREES
     files, stdout = render_files(shot, name, options, targets, segments, plan, tables, exit_code, span,
-                                 crosscheck_text)
+                                 crosscheck_text, comparison)
     return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,
-                       segments=[(r, t) for (r, _), t in zip(segments, tables)],
-                       clock=StageClock.from_metadata(loaded.metadata))
+                       segments=[(r, t) for (r, _), t in zip(segments, tables)], clock=clock,
+                       baseline=comparison)
 
 
 def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
                  tables: Sequence[ContactTable], exit_code: int, span: TimeRange,
-                 crosscheck_text: Optional[str] = None) -> Tuple[Dict[Path, str], Optional[str]]:
+                 crosscheck_text: Optional[str] = None,
+                 comparison: Optional[BaselineComparison] = None) -> Tuple[Dict[Path, str], Optional[str]]:
     """({target: text} of every file of a check, the JSON text for stdout or None), in write order.
 
     ``segments``: [(range, loaded Shot)] as :func:`load_segments` gives them, ``tables`` the contacts of
@@ -286,8 +308,9 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     table = ContactTable.concatenate(list(tables))
     clock = StageClock.from_metadata(segments[0][1].metadata)
     files: Dict[Path, str] = {}
-    files[targets.contacts_csv(shot)] = contacts_csv(table, clock)
-    files[targets.summary_csv(shot)] = summary_csv(table, clock)
+    known = None if comparison is None else comparison.known
+    files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known)
+    files[targets.summary_csv(shot)] = summary_csv(table, clock, known)
     if crosscheck_text is not None:
         files[targets.crosscheck_csv(shot)] = crosscheck_text
     layer_path = targets.override_layer(shot)
@@ -300,14 +323,38 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
                                                       len(segments), __version__)
     stdout = None
     if targets.json_path is not None or targets.json_to_stdout:
-        json_text = json_report(name, options.settings(), plan, table, exit_code, clock, version=__version__)
+        json_text = json_report(name, options.settings(), plan, table, exit_code, clock, version=__version__,
+                                baseline=None if comparison is None else comparison.to_dict(), known=known)
         if targets.json_path is not None:
             files[targets.json_path] = json_text
         else:
             stdout = json_text
     if targets.junit_path is not None:
-        files[targets.junit_path] = junit_report(name, plan, table, clock)
+        files[targets.junit_path] = junit_report(name, plan, table, clock, known)
     return files, stdout
+
+
+def baseline_messages(comparison: BaselineComparison, clock: StageClock) -> List[Tuple[str, str]]:
+    """(level, text) lines naming new face pairs and fixed baseline entries: BASELINE_LINES_SHOWN of each
+    as RESULT lines, then up to BASELINE_LINES_VERBOSE as INFO lines (shown with -v), then a count."""
+    lines: List[Tuple[str, str]] = []
+    table = comparison.table
+    new_rows = np.flatnonzero(~comparison.known)[:BASELINE_LINES_VERBOSE]
+    if new_rows.size:
+        prim_a, prim_b = table.prim_names()
+        for shown, row in enumerate(new_rows.tolist()):
+            lines.append((RESULT if shown < BASELINE_LINES_SHOWN else INFO,
+                          f"new: {prim_a[row]} face {int(table.face_a[row])} x {prim_b[row]} face "
+                          f"{int(table.face_b[row])}, first at {clock.describe(float(table.time[row]))}"))
+    for shown, entry in enumerate(comparison.fixed[:BASELINE_LINES_VERBOSE].tolist()):
+        lines.append((RESULT if shown < BASELINE_LINES_SHOWN else INFO,
+                      f"fixed (in the baseline, no longer found): {comparison.baseline.describe(entry)}"))
+    for count, listed, what in ((comparison.new_count, new_rows.size, "new face pairs"),
+                                (comparison.fixed_count, min(comparison.fixed_count, BASELINE_LINES_VERBOSE),
+                                 "fixed baseline entries")):
+        if count > BASELINE_LINES_SHOWN:
+            lines.append((RESULT, f"{count} {what} in all; -v lists {listed}, the reports list all"))
+    return lines
 
 
 def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[str, str], None],

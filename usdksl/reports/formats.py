@@ -22,6 +22,7 @@ from xml.etree import ElementTree
 
 import numpy as np
 
+from ..baseline import KNOWN, NEW, STATUS_COLUMN
 from ..clock import StageClock
 from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
 
@@ -30,6 +31,8 @@ LAST_CONTACT_COLUMNS = ("last_time", "last_frame", "last_seconds")
 SUMMARY_COLUMNS = ("prim_a", "prim_b", "kind", "first_contact_time", "face_pairs", "first_contact_frame",
                    "first_contact_seconds")
 SUMMARY_LAST_COLUMNS = ("last_contact_time", "last_contact_frame", "last_contact_seconds")
+#: summary.csv column with a baseline: face pairs of the mesh pair the baseline does not know.
+NEW_FACE_PAIRS = "new_face_pairs"
 
 
 def format_times(times: np.ndarray) -> np.ndarray:
@@ -46,10 +49,12 @@ def _int_text(values: np.ndarray) -> np.ndarray:
     return np.asarray(values).astype(np.int64).astype(str).astype(object)
 
 
-def contacts_csv(table: ContactTable, clock: StageClock) -> str:
-    """contacts.csv: the header, then one line per row of ``table`` (frames and seconds by ``clock``)."""
+def contacts_csv(table: ContactTable, clock: StageClock, known: Optional[np.ndarray] = None) -> str:
+    """contacts.csv: the header, then one line per row of ``table`` (frames and seconds by ``clock``);
+    ``known`` (bool per row, from a baseline) adds the ``baseline`` column: new or known."""
     with_last = table.last_time is not None
-    header = ",".join(CONTACT_COLUMNS + (LAST_CONTACT_COLUMNS if with_last else ())) + "\n"
+    header = ",".join(CONTACT_COLUMNS + (LAST_CONTACT_COLUMNS if with_last else ())
+                      + ((STATUS_COLUMN,) if known is not None else ())) + "\n"
     if table.count == 0:
         return header
     prim_a, prim_b = table.prim_names()
@@ -59,16 +64,27 @@ def contacts_csv(table: ContactTable, clock: StageClock) -> str:
     if with_last:
         columns += [format_times(table.last_time), format_times(clock.frames(table.last_time)),
                     format_times(clock.seconds(table.last_time))]
+    if known is not None:
+        columns.append(np.where(known, KNOWN, NEW).astype(object))
     # Columns are numpy object arrays; map/zip/join run in C (measured: 0.05 s for 100k rows, 3.5x
     # faster than chained object-array additions), no Python code runs per row.
     columns = [column.tolist() for column in columns]
     return header + "\n".join(map(",".join, zip(*columns))) + "\n"
 
 
-def summary_rows(table: ContactTable, clock: StageClock) -> list:
-    """ContactTable.summary() with each time also as a frame and in seconds (the summary.csv columns)."""
+def summary_rows(table: ContactTable, clock: StageClock, known: Optional[np.ndarray] = None) -> list:
+    """ContactTable.summary() with each time also as a frame and in seconds (the summary.csv columns), and
+    with ``known`` (bool per row, from a baseline) the number of new face pairs per mesh pair."""
     rows = table.summary()
+    new_per_pair = {}
+    if known is not None and table.count:
+        prim_a, prim_b = table.prim_names()
+        new = ~np.asarray(known, bool)
+        for a, b in zip(prim_a[new].tolist(), prim_b[new].tolist()):
+            new_per_pair[(a, b)] = new_per_pair.get((a, b), 0) + 1
     for row in rows:
+        if known is not None:
+            row[NEW_FACE_PAIRS] = new_per_pair.get((row["prim_a"], row["prim_b"]), 0)
         for prefix in ("first_contact", "last_contact"):
             if f"{prefix}_time" in row:
                 row[f"{prefix}_frame"] = clock.frame(row[f"{prefix}_time"])
@@ -76,21 +92,27 @@ def summary_rows(table: ContactTable, clock: StageClock) -> list:
     return rows
 
 
-def summary_csv(table: ContactTable, clock: StageClock) -> str:
-    """summary.csv: the header, then one line per mesh pair with contacts (ContactTable.summary)."""
-    columns = SUMMARY_COLUMNS + (SUMMARY_LAST_COLUMNS if table.last_time is not None else ())
+def summary_csv(table: ContactTable, clock: StageClock, known: Optional[np.ndarray] = None) -> str:
+    """summary.csv: the header, then one line per mesh pair with contacts (ContactTable.summary); with
+    ``known`` (from a baseline) a last column new_face_pairs."""
+    columns = (SUMMARY_COLUMNS + (SUMMARY_LAST_COLUMNS if table.last_time is not None else ())
+               + ((NEW_FACE_PAIRS,) if known is not None else ()))
     lines = [",".join(columns)]
-    for row in summary_rows(table, clock):
+    for row in summary_rows(table, clock, known):
         lines.append(",".join(value if isinstance(value, str) else repr(value)
                               for value in (row[column] for column in columns)))
     return "\n".join(lines) + "\n"
 
 
-def contact_records(table: ContactTable, clock: StageClock) -> list:
-    """ContactTable.records() with frame and seconds (and last_frame, last_seconds) per row."""
+def contact_records(table: ContactTable, clock: StageClock, known: Optional[np.ndarray] = None) -> list:
+    """ContactTable.records() with frame and seconds (and last_frame, last_seconds; with ``known`` the
+    baseline status) per row."""
     records = table.records()
     if not records:
         return records
+    if known is not None:
+        for record, status in zip(records, np.where(known, KNOWN, NEW).tolist()):
+            record[STATUS_COLUMN] = status
     frames, seconds = clock.frames(table.time).tolist(), clock.seconds(table.time).tolist()
     for record, frame, second in zip(records, frames, seconds):
         record["frame"], record["seconds"] = frame, second
@@ -108,8 +130,9 @@ def clock_settings(clock: StageClock) -> dict:
 
 
 def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_code: int, clock: StageClock,
-                version: str = "") -> str:
-    """The --json document: shot, settings, clock, plan, summary rows, contacts, exit code."""
+                version: str = "", baseline: Optional[dict] = None, known: Optional[np.ndarray] = None) -> str:
+    """The --json document: shot, settings, clock, plan, summary rows, contacts, exit code; with a
+    baseline its comparison (BaselineComparison.to_dict) and each contact's status."""
     document = {
         "tool": "usdksl",
         "version": version,
@@ -117,17 +140,21 @@ def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_
         "settings": settings,
         "clock": clock_settings(clock),
         "plan": plan.to_dict(),
-        "summary": summary_rows(table, clock),
-        "contacts": contact_records(table, clock),
+        "summary": summary_rows(table, clock, known),
+        "contacts": contact_records(table, clock, known),
         "contact_count": table.count,
         "exit_code": int(exit_code),
     }
+    if baseline is not None:
+        document["baseline"] = baseline
     return json.dumps(document, indent=1, allow_nan=False) + "\n"
 
 
-def junit_report(shot_path: str, plan, table: ContactTable, clock: StageClock) -> str:
-    """One testsuite per shot, one testcase per checked mesh pair; a failure when the pair has contacts."""
-    by_pair = {(row["prim_a"], row["prim_b"]): row for row in table.summary()}
+def junit_report(shot_path: str, plan, table: ContactTable, clock: StageClock,
+                 known: Optional[np.ndarray] = None) -> str:
+    """One testsuite per shot, one testcase per checked mesh pair; a failure when the pair has contacts
+    (with ``known`` from a baseline: new contacts)."""
+    by_pair = {(row["prim_a"], row["prim_b"]): row for row in summary_rows(table, clock, known)}
     failures = 0
     cases = []
     for i, j in plan.pairs.tolist():
@@ -136,10 +163,15 @@ def junit_report(shot_path: str, plan, table: ContactTable, clock: StageClock) -
         case = ElementTree.Element("testcase", {"classname": f"usdksl.{kind}",
                                                 "name": a if kind == "self" else f"{a} x {b}"})
         row = by_pair.get((a, b))
-        if row is not None:
+        if row is not None and row.get(NEW_FACE_PAIRS, row["face_pairs"]) == 0:
+            output = ElementTree.SubElement(case, "system-out")
+            output.text = f"{row['face_pairs']} known face pair{'s' if row['face_pairs'] != 1 else ''} in contact"
+        elif row is not None:
             failures += 1
             message = (f"{row['face_pairs']} face pair{'s' if row['face_pairs'] != 1 else ''} in contact, "
                        f"first at {clock.describe(row['first_contact_time'])}")
+            if NEW_FACE_PAIRS in row:
+                message = f"{row[NEW_FACE_PAIRS]} new, " + message
             if "last_contact_time" in row:
                 message += f", last at {clock.describe(row['last_contact_time'])}"
             failure = ElementTree.SubElement(case, "failure", {"message": message, "type": "contact"})
@@ -158,16 +190,24 @@ def junit_report(shot_path: str, plan, table: ContactTable, clock: StageClock) -
 
 
 def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds: float,
-                 clock: StageClock) -> str:
-    """The final line printed after every run."""
+                 clock: StageClock, known: Optional[np.ndarray] = None, fixed: int = 0) -> str:
+    """The final line printed after every run; with ``known`` (from a baseline) it says how many contacts
+    are new and known, and ``fixed`` how many baseline entries no longer occur."""
     pairs = len(table.summary())
     span = "" if time_range is None else f" over {time_range[0]:g}..{time_range[1]:g}"
     checked = f"checked {plan.checked_pairs} pair{'s' if plan.checked_pairs != 1 else ''}{span} in {seconds:.1f}s"
+    fixed_text = f", {fixed} fixed" if known is not None else ""
     if table.count == 0:
-        return f"usdksl: clean: no contacts; {checked}"
+        return f"usdksl: clean: no contacts{fixed_text if fixed else ''}; {checked}"
     first = float(table.time[0])
-    return (f"usdksl: {table.count} contacting face pair{'s' if table.count != 1 else ''} in {pairs} mesh "
-            f"pair{'s' if pairs != 1 else ''}, first at {clock.describe(first)}; {checked}")
+    found = (f"{table.count} contacting face pair{'s' if table.count != 1 else ''} in {pairs} mesh "
+             f"pair{'s' if pairs != 1 else ''}, first at {clock.describe(first)}")
+    if known is None:
+        return f"usdksl: {found}; {checked}"
+    new = np.flatnonzero(~np.asarray(known, bool))
+    first_new = f", first new at {clock.describe(float(table.time[new[0]]))}" if new.size else ""
+    return (f"usdksl: {new.size} new, {table.count - new.size} known{fixed_text}: {found}{first_new}; "
+            f"{checked}")
 
 
 def read_contacts_table(path, paths) -> ContactTable:

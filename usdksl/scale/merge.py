@@ -14,10 +14,11 @@ times could differ in the last bits), and chunks that split at a topology change
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..baseline import Baseline, compare
 from ..checking.pipeline import CheckOptions, CheckResult, OutputTargets, load_segments, render_files
 from ..clock import StageClock
 from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
@@ -147,9 +148,11 @@ def _pair_rows(table: ContactTable) -> np.ndarray:
     return np.stack([table.mesh_a, table.face_a, table.mesh_b, table.face_b], axis=1).astype(np.int64)
 
 
-def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> CheckResult:
+def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
+                 baseline: Optional[Baseline] = None) -> CheckResult:
     """What ``usdksl check SHOT --time-range START END`` writes, START..END the union of the chunks'
-    ranges, from the chunks' outputs. Raises UsdkslUsageError (one line) when they cannot be merged."""
+    ranges, from the chunks' outputs (with ``baseline``: what that check with ``--baseline`` writes).
+    Raises UsdkslUsageError (one line) when they cannot be merged."""
     chunks = read_chunks(shot, folders)
     settings = chunks[0].manifest["settings"]
     span: Tuple[float, float] = (chunks[0].start, max(chunk.end for chunk in chunks))
@@ -185,11 +188,14 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> C
                                             for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
     if options.last_contact:
         table = table.with_last_times(merged_last_times(table, tables, paths))
-    exit_code = CONTACTS_FOUND if table.count else CLEAN
-    files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span)
+    comparison = None if baseline is None else compare(table, baseline)
+    exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
+    files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span,
+                                 comparison=comparison)
     return CheckResult(shot=shot, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=0.0, counters={}, messages=[], files=files, stdout=stdout,
-                       segments=[(span, table)], clock=StageClock.from_metadata(loaded.metadata))
+                       segments=[(span, table)], clock=StageClock.from_metadata(loaded.metadata),
+                       baseline=comparison)
 
 
 __all__ = ["Chunk", "check_overlap", "merge_chunks", "read_chunks"]
