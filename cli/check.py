@@ -59,6 +59,9 @@ def _echo(line: str) -> None:
 @click.option("--include-guides", is_flag=True, help="Also check meshes with purpose guide.")
 @click.option("--include-invisible", is_flag=True,
               help="Also check meshes that are invisible over the whole checked range.")
+@click.option("--rigid", is_flag=True,
+              help="Also check pairs in which neither mesh deforms (rigid against rigid or still). By default "
+                   "a pair needs a deforming mesh; the summary says how many pairs this leaves out.")
 @click.option("--crosscheck", is_flag=True,
               help="Also intersect every sample with Embree and check it against the contacts "
                    "(writes <stem>.crosscheck.csv; exit 3 when they disagree).")
@@ -83,8 +86,8 @@ def _echo(line: str) -> None:
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, last_contact, baseline, baseline_time_tolerance,
-          json_path, junit_path, strict, jobs, scheduler):
+          include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
+          baseline_time_tolerance, json_path, junit_path, strict, jobs, scheduler):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -94,7 +97,8 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
-                           include_invisible=include_invisible, crosscheck=crosscheck, last_contact=last_contact,
+                           include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
+                           last_contact=last_contact,
                            strict=strict)
     shots = expand_shots(shots)
     if len(shots) == 1 and jobs is None and scheduler is None:

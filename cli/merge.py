@@ -42,6 +42,6 @@ def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_toler
         sys.exit(error.exit_code)
     if result.stdout is not None:
         sys.stdout.write(result.stdout)
-    click.echo(f"usdksl: merged {len(parts)} chunk{'s' if len(parts) != 1 else ''}: {result.summary[8:]}",
-               err=True)
+    chunks = f"{len(parts)} chunk{'s' if len(parts) != 1 else ''}"
+    click.echo(f"usdksl: merged {chunks}: {result.summary[len('usdksl: '):]}", err=True)
     sys.exit(result.exit_code)

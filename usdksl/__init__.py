@@ -10,6 +10,10 @@ user needs are re-exported here. The sub-packages, by topic:
 ``usdksl.scale``       many shots, on one process or a Dask cluster, and farm chunks merged
 """
 
+from ._openusd import require_openusd
+
+require_openusd()   # one actionable line when neither usd-core nor a studio USD provides pxr
+
 from . import _native  # noqa: F401  (private; wrapped by the modules below)
 from . import ccd, errors
 from .checking.collision import CollisionResult, find_contacts

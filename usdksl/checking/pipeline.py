@@ -85,6 +85,8 @@ class CheckOptions:
     exclude: Tuple[str, ...] = ()
     include_guides: bool = False
     include_invisible: bool = False
+    #: Also check pairs in which neither mesh deforms (rigid or still against rigid or still).
+    rigid: bool = False
     crosscheck: bool = False
     #: Also find each face pair's last contact by checking the shot played backwards
     #: (usdksl.checking.last_contact): a second run of the core, about as long as the first.
@@ -113,7 +115,8 @@ class CheckOptions:
                 "self": self.self_check, "inter": self.inter_check,
                 "time_range": list(self.time_range) if self.time_range else None,
                 "prims": list(include), "exclude": list(excluded), "include_guides": self.include_guides,
-                "include_invisible": self.include_invisible, "last_contact": self.last_contact}
+                "include_invisible": self.include_invisible, "rigid": self.rigid,
+                "last_contact": self.last_contact}
 
 
 @dataclass(frozen=True)
@@ -229,12 +232,15 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
     segments = load_segments(shot, options.time_range, predicate, say, name)
-    loaded = segments[0][1]
+    for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
+        say(WARNING, warning)
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
-                         include_guides=options.include_guides, include_invisible=options.include_invisible)
+                         include_guides=options.include_guides, include_invisible=options.include_invisible,
+                         rigid=options.rigid)
     plans = []
     for segment_range, segment in segments:
-        reject_spline_motion(segment.stage, [mesh.path for mesh in segment.meshes], file=name)
+        reject_spline_motion(segment.stage, list(dict.fromkeys(
+            path for mesh in segment.meshes for path in (mesh.prim_path, mesh.scene_path))), file=name)
         segment_plan = plan_shot(segment, scope, segment_range)
         if predicate is not None:
             segment_plan.excluded_paths = list(dict.fromkeys(predicate.rejected))
@@ -275,7 +281,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     if not plan.checked_pairs:
         say(WARNING, "no mesh pair left to check")
     table = ContactTable.concatenate(tables)
-    clock = StageClock.from_metadata(loaded.metadata)
+    clock = StageClock.from_metadata(segments[0][1].metadata)
     comparison = None
     if baseline is not None:
         comparison = compare(table, baseline)

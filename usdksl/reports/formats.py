@@ -25,6 +25,7 @@ import numpy as np
 from ..baseline import KNOWN, NEW, STATUS_COLUMN
 from ..clock import StageClock
 from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
+from ..reading.scope import PAIR_RIGID_ONLY
 
 CONTACT_COLUMNS = ("time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature", "frame", "seconds")
 LAST_CONTACT_COLUMNS = ("last_time", "last_frame", "last_seconds")
@@ -196,6 +197,10 @@ def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds
     pairs = len(table.summary())
     span = "" if time_range is None else f" over {time_range[0]:g}..{time_range[1]:g}"
     checked = f"checked {plan.checked_pairs} pair{'s' if plan.checked_pairs != 1 else ''}{span} in {seconds:.1f}s"
+    rigid_only = plan.skipped_pair_counts().get(PAIR_RIGID_ONLY, 0) if hasattr(plan, "skipped_pair_counts") else 0
+    if rigid_only:
+        checked += (f"; {rigid_only} rigid-only pair{'s' if rigid_only != 1 else ''} left out "
+                    f"(neither mesh deforms; --rigid checks them)")
     fixed_text = f", {fixed} fixed" if known is not None else ""
     if table.count == 0:
         return f"usdksl: clean: no contacts{fixed_text if fixed else ''}; {checked}"

@@ -22,6 +22,17 @@ Per checked mesh it authors:
 
 Meshes inside instances are made visible to these opinions by authoring ``instanceable = false`` on
 their instances in this layer (the input keeps its instancing).
+
+PointInstancer instances (``/World/scatter[3]/box``, :mod:`usdksl.instancing`) are not prims, and all
+instances share their prototype's faces, so nothing is authored per instance mesh or per face. Their results
+go on the instancer prim instead:
+
+``double[] usdksl:instanceFirstContactTime``
+    one value per instance index (the instancer's protoIndices order): that instance's first contact, NaN
+    when it never touches anything or was not checked;
+``int usdksl:contactInstanceCount``, ``rel usdksl:contactsWith``, ``double usdksl:firstContactTime``
+    as for a mesh, over all its instances. A mesh touched by an instance lists the instancer in its
+    ``usdksl:contactsWith``.
 """
 
 from __future__ import annotations
@@ -38,6 +49,8 @@ CLEAN_COLOR = (0.6, 0.6, 0.6)
 ATTR_FIRST_CONTACT_TIME = "usdksl:firstContactTime"
 ATTR_CONTACT_FACE_COUNT = "usdksl:contactFaceCount"
 REL_CONTACTS_WITH = "usdksl:contactsWith"
+ATTR_INSTANCE_FIRST_CONTACT_TIME = "usdksl:instanceFirstContactTime"
+ATTR_CONTACT_INSTANCE_COUNT = "usdksl:contactInstanceCount"
 PRIMVAR_FIRST_CONTACT_TIME = "primvars:usdksl:firstContactTime"
 PRIMVAR_DISPLAY_COLOR = "primvars:displayColor"
 
@@ -100,8 +113,13 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
     layer.comment = "usdksl check results: override layer over the cache it sublayers"
 
     paths = [mesh.path for mesh in shot.meshes]
+    targets = [_result_prim(mesh) for mesh in shot.meshes]
+    instancers: Dict[str, list] = {}
     for index in sorted(set(int(i) for i in checked_meshes), key=paths.__getitem__):
         mesh = shot.meshes[index]
+        if getattr(mesh, "instancer", None):
+            instancers.setdefault(mesh.instancer, []).append(index)
+            continue
         # (time range or None for the default value, face times) per authored value
         if segments and len(segments) > 1 and not _same_topology_everywhere(segments, index):
             values = [(span, face_first_contact_times(segment_table, index, segment_shot.meshes[index].face_count))
@@ -121,7 +139,7 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
         count.default = touching_faces
         relationship = Sdf.RelationshipSpec(spec, REL_CONTACTS_WITH, custom=True)
         relationship.targetPathList.explicitItems = [
-            Sdf.Path(other) for other in sorted(paths[i] for i in touched_meshes(table, index).tolist())]
+            Sdf.Path(other) for other in sorted({targets[i] for i in touched_meshes(table, index).tolist()})]
         rows = (table.mesh_a == index) | (table.mesh_b == index)
         if rows.any():
             first = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double,
@@ -145,7 +163,55 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
         if _input_authors(shot.stage, mesh.path, PRIMVAR_DISPLAY_COLOR + ":indices"):
             indices = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR + ":indices", Sdf.ValueTypeNames.IntArray)
             indices.default = Sdf.ValueBlock()
+    for instancer, indices in sorted(instancers.items()):
+        _author_instancer(layer, shot, instancer, indices, table, targets)
     return layer.ExportToString()
+
+
+def _result_prim(mesh) -> str:
+    """The prim a mesh's results are written on (and that other meshes' contactsWith target)."""
+    return getattr(mesh, "instancer", None) or mesh.path
+
+
+def _instance_count(stage, instancer: str, time: float, fallback: int) -> int:
+    from pxr import UsdGeom
+
+    prim = stage.GetPrimAtPath(instancer) if stage is not None else None
+    indices = UsdGeom.PointInstancer(prim).GetProtoIndicesAttr().Get(time) if prim else None
+    return max(len(indices) if indices is not None else 0, fallback)
+
+
+def _author_instancer(layer, shot, instancer: str, indices: Sequence[int], table, targets) -> None:
+    """Per-instance first contact times and instancer-level totals (module docstring)."""
+    from pxr import Sdf, Vt
+
+    meshes = [shot.meshes[i] for i in indices]
+    count = _instance_count(shot.stage, instancer, float(meshes[0].times[0]),
+                            max(mesh.instance_index for mesh in meshes) + 1)
+    first = np.full(count, np.inf)
+    touched = set()
+    for index, mesh in zip(indices, meshes):
+        rows = (table.mesh_a == index) | (table.mesh_b == index)
+        if rows.any():
+            first[mesh.instance_index] = min(first[mesh.instance_index], float(table.time[rows].min()))
+        touched.update(targets[i] for i in touched_meshes(table, index).tolist())
+    first[np.isinf(first)] = np.nan
+    for instance_path in _enclosing_instances(shot.stage, instancer):
+        instance = Sdf.CreatePrimInLayer(layer, Sdf.Path(instance_path))
+        instance.specifier = Sdf.SpecifierOver
+        instance.instanceable = False
+    spec = Sdf.CreatePrimInLayer(layer, Sdf.Path(instancer))
+    spec.specifier = Sdf.SpecifierOver
+    times = Sdf.AttributeSpec(spec, ATTR_INSTANCE_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.DoubleArray,
+                              declaresCustom=True)
+    times.default = Vt.DoubleArray.FromNumpy(first)
+    touching = Sdf.AttributeSpec(spec, ATTR_CONTACT_INSTANCE_COUNT, Sdf.ValueTypeNames.Int, declaresCustom=True)
+    touching.default = int((~np.isnan(first)).sum())
+    relationship = Sdf.RelationshipSpec(spec, REL_CONTACTS_WITH, custom=True)
+    relationship.targetPathList.explicitItems = [Sdf.Path(other) for other in sorted(touched)]
+    if not np.isnan(first).all():
+        earliest = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double, declaresCustom=True)
+        earliest.default = float(np.nanmin(first))
 
 
 def _enclosing_instances(stage, prim_path: str):
@@ -182,8 +248,13 @@ def override_layer_name(shot_path: Union[str, os.PathLike]) -> str:
 
 
 def shot_stem(shot_path: Union[str, os.PathLike]) -> str:
-    """``shot.usd`` -> ``shot``; ``shot.usdc`` -> ``shot``."""
-    return Path(shot_path).stem
+    """``shot.usd`` -> ``shot``; ``shot.usdc`` -> ``shot``; the package-relative ``pkg.usdz[scene.usdc]`` ->
+    ``pkg.scene``."""
+    text = os.fspath(shot_path)
+    if text.endswith("]") and "[" in text:
+        package, inner = text[:-1].split("[", 1)
+        return f"{Path(package).stem}.{Path(inner).stem}"
+    return Path(text).stem
 
 
 __all__ = ["build_override_layer", "face_first_contact_times", "touched_meshes", "relative_sublayer_path",

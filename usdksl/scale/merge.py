@@ -13,6 +13,7 @@ times could differ in the last bits), and chunks that split at a topology change
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import List, Optional, Sequence, Tuple
 
@@ -24,7 +25,7 @@ from ..clock import StageClock
 from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND
-from ..reading.loader import STATIC
+from ..reading.meshes import STATIC
 from ..reading.scope import ScopeOptions, include_predicate, plan_shot
 from ..reports.formats import read_contacts_table
 from ..reports.manifest import checked_pairs, file_sha256, manifest_name, read_manifest
@@ -153,6 +154,7 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
     """What ``usdksl check SHOT --time-range START END`` writes, START..END the union of the chunks'
     ranges, from the chunks' outputs (with ``baseline``: what that check with ``--baseline`` writes).
     Raises UsdkslUsageError (one line) when they cannot be merged."""
+    started = time.monotonic()
     chunks = read_chunks(shot, folders)
     settings = chunks[0].manifest["settings"]
     span: Tuple[float, float] = (chunks[0].start, max(chunk.end for chunk in chunks))
@@ -193,7 +195,7 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
     files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span,
                                  comparison=comparison)
     return CheckResult(shot=shot, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
-                       seconds=0.0, counters={}, messages=[], files=files, stdout=stdout,
+                       seconds=time.monotonic() - started, counters={}, messages=[], files=files, stdout=stdout,
                        segments=[(span, table)], clock=StageClock.from_metadata(loaded.metadata),
                        baseline=comparison)
 
