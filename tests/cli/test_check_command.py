@@ -20,6 +20,7 @@ from usdksl.reading.loader import load_shot
 from usdksl.clock import StageClock
 from usdksl.contacts import ContactTable
 from usdksl.reports.formats import contacts_csv
+from usdksl.reports.override import CLEAN_COLOR, CONTACT_COLOR
 from usdksl.reading.scope import plan_shot
 
 from builders import (QUAD_POINTS, STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, falling_quad_samples,
@@ -400,7 +401,9 @@ def test_topology_change_is_checked_per_segment_with_a_warning(tmp_path):
     assert len(primvar.Get(3.0)) == 2 and all(math.isnan(v) for v in primvar.Get(3.0))
     assert len(primvar.Get(20.0)) == 4 and list(primvar.Get(20.0)) == pytest.approx([20.0] * 4, abs=1e-4)
     colors = UsdGeom.PrimvarsAPI(layered.GetPrimAtPath("/World/Changing")).GetPrimvar("displayColor")
-    assert len(colors.Get(3.0)) == 2 and len(colors.Get(20.0)) == 4
+    # per face of the topology in force: both faces grey at 3, all four red by the end
+    assert np.allclose(np.asarray(colors.ComputeFlattened(3.0)), [CLEAN_COLOR] * 2)
+    assert np.allclose(np.asarray(colors.ComputeFlattened(24.0)), [CONTACT_COLOR] * 4)
     prim = layered.GetPrimAtPath("/World/Changing")
     assert prim.GetAttribute("usdksl:firstContactTime").Get() == pytest.approx(20.0, abs=1e-4)
 

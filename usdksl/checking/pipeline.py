@@ -13,7 +13,7 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -31,12 +31,14 @@ from ..reading.segments import full_range, is_topology_change, split_range, topo
 from ..reports.formats import contacts_csv, json_report, junit_report, summary_csv, summary_line
 from ..reports.manifest import file_sha256, manifest_name, manifest_text
 from ..reports.output import check_writable_directory, resolve_output_path
-from ..reports.override import build_override_layer, shot_stem
+from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import __version__
 from .collision import METHODS, find_contacts
 from .last_contact import last_contacts
 
 TimeRange = Tuple[float, float]
+#: What write_files publishes at a target: text, bytes, or None (remove the file if there is one).
+FileData = Optional[Union[str, bytes]]
 
 # Message levels: how a line is shown (``usdksl: warning: ...``) and at which verbosity (cli/check.py):
 # plan and info lines with -v; results (the baseline's new and fixed contacts) and warnings by default;
@@ -135,8 +137,9 @@ class OutputTargets:
     def summary_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.summary.csv"
 
-    def override_layer(self, shot: str) -> Path:
-        return self.out_dir / f"{shot_stem(shot)}.usdksl.usda"
+    def override_layer(self, shot: str, binary: bool = False) -> Path:
+        """``<stem>.usdksl.usda``, or ``.usdksl.usdc`` for a layer written as a crate file."""
+        return self.out_dir / override_layer_name(shot, binary)
 
     def crosscheck_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.crosscheck.csv"
@@ -175,7 +178,8 @@ class CheckResult:
     seconds: float
     counters: Dict[str, int]
     messages: List[Message]
-    files: Dict[Path, str]
+    #: {target: text, bytes (a crate file, a PNG) or None (a stale file of ours to remove)}
+    files: Dict[Path, "FileData"]
     stdout: Optional[str] = None
     segments: List[Tuple[Optional[TimeRange], ContactTable]] = field(default_factory=list)
     #: Frames and seconds of the shot's time codes (its stage metadata).
@@ -306,24 +310,26 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
 def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
                  tables: Sequence[ContactTable], exit_code: int, span: TimeRange,
                  crosscheck_text: Optional[str] = None,
-                 comparison: Optional[BaselineComparison] = None) -> Tuple[Dict[Path, str], Optional[str]]:
-    """({target: text} of every file of a check, the JSON text for stdout or None), in write order.
+                 comparison: Optional[BaselineComparison] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
+    """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
+    stdout or None), in write order.
 
     ``segments``: [(range, loaded Shot)] as :func:`load_segments` gives them, ``tables`` the contacts of
     each. A run over a time range (a farm chunk) also writes its manifest (usdksl.reports.manifest)."""
     table = ContactTable.concatenate(list(tables))
     clock = StageClock.from_metadata(segments[0][1].metadata)
-    files: Dict[Path, str] = {}
+    files: Dict[Path, FileData] = {}
     known = None if comparison is None else comparison.known
     files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known)
     files[targets.summary_csv(shot)] = summary_csv(table, clock, known)
     if crosscheck_text is not None:
         files[targets.crosscheck_csv(shot)] = crosscheck_text
-    layer_path = targets.override_layer(shot)
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
-    files[layer_path] = build_override_layer(
-        segments[0][1], checked_meshes, table, layer_path,
-        segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1 else None)
+    layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
+                           segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
+                           else None, span=span)
+    files[targets.override_layer(shot, layer.binary)] = layer.data()
+    files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
     if options.time_range is not None:
         files[targets.manifest(shot)] = manifest_text(name, file_sha256(shot), options.settings(), span, plan,
                                                       len(segments), __version__)
