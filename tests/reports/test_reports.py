@@ -3,13 +3,15 @@
 import csv
 import io
 import json
-from xml.etree import ElementTree
 
 import numpy as np
 
 from usdksl.clock import StageClock
 from usdksl.contacts import ContactTable
-from usdksl.reports.formats import contacts_csv, format_times, json_report, junit_report, summary_csv, summary_line
+from usdksl.reports.formats import contacts_csv, format_times, json_report, summary_csv, summary_line
+from usdksl.reports.junit import junit_report
+
+from junit_schema import assert_valid_junit
 from usdksl.reading.scope import SceneFlags, plan_pairs
 
 
@@ -99,7 +101,7 @@ def _plan():
 
 def test_junit_one_case_per_checked_pair_with_failures():
     table = ContactTable.from_face_contacts(contacts([(2.0, 0, 7, 1, 3, 0), (3.0, 0, 8, 1, 3, 0)]), PATHS)
-    root = ElementTree.fromstring(junit_report("shot.usda", _plan(), table, CLOCK))
+    root = assert_valid_junit(junit_report("shot.usda", _plan(), table, CLOCK))
     suites = root.findall("testsuite")
     assert len(suites) == 1 and suites[0].get("name") == "shot.usda"
     cases = suites[0].findall("testcase")

@@ -28,7 +28,8 @@ from ..reading.interpolation import reject_spline_motion
 from ..reading.loader import load_shot, mesh_prims, open_stage
 from ..reading.scope import Plan, ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
 from ..reading.segments import full_range, is_topology_change, split_range, topology_gaps
-from ..reports.formats import contacts_csv, json_report, junit_report, summary_csv, summary_line
+from ..reports.formats import contacts_csv, json_report, mesh_pair_lines, summary_csv, summary_line
+from ..reports.junit import junit_report
 from ..reports.manifest import file_sha256, manifest_name, manifest_text
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import override_layer, override_layer_name, shot_stem
@@ -48,6 +49,11 @@ INFO = "info"
 RESULT = "result"
 WARNING = "warning"
 ERROR = "error"
+#: Console verbosity (usdksl check -q, default, -v) and the least verbosity that shows each level.
+QUIET = 0
+NORMAL = 1
+VERBOSE = 2
+LEVEL_VERBOSITY = {ERROR: QUIET, WARNING: NORMAL, RESULT: NORMAL, INFO: VERBOSE, PLAN: VERBOSE}
 #: Baseline lines shown by default (new face pairs, fixed entries, each); -v shows up to BASELINE_LINES_VERBOSE.
 BASELINE_LINES_SHOWN = 5
 BASELINE_LINES_VERBOSE = 200
@@ -65,6 +71,10 @@ class Message:
 
     level: str
     text: str
+
+    def shown(self, verbosity: int) -> bool:
+        """Whether ``usdksl check`` at this verbosity prints it (LEVEL_VERBOSITY)."""
+        return verbosity >= LEVEL_VERBOSITY.get(self.level, VERBOSE)
 
     def line(self, shot: Optional[str] = None) -> str:
         """As ``usdksl check`` prints it on stderr (after the shot's name when it checks several)."""
@@ -193,6 +203,11 @@ class CheckResult:
         return self.counters.get(UNDECIDED_COUNTER, 0)
 
     @property
+    def line(self) -> str:
+        """The shot's line on the console: ``usdksl: SHOT: <summary>``."""
+        return f"usdksl: {self.shot}: {self.summary[len('usdksl: '):]}"
+
+    @property
     def summary(self) -> str:
         """The final line of ``usdksl check``."""
         return summary_line(self.table, self.plan, self.span, self.seconds, self.clock,
@@ -291,6 +306,8 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
         comparison = compare(table, baseline)
         for level, text in baseline_messages(comparison, clock):
             say(level, text)
+    for text in mesh_pair_lines(table, clock, None if comparison is None else comparison.known):
+        say(INFO, text)
 
     exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
     crosscheck_text = None
@@ -454,7 +471,7 @@ def _crosscheck(segments, plans: Sequence[Plan], tables: Sequence[ContactTable],
     for result in results:
         for line in result.error_lines():
             say(ERROR, line)
-        say(INFO, result.summary_line())
+        say(RESULT, result.summary_line())
     text = "".join(part if index == 0 else part.split("\n", 1)[1]
                    for index, part in enumerate(result.csv_text() for result in results))
     return text, all(result.consistent for result in results)

@@ -1,4 +1,4 @@
-"""The texts of a check's reports: contacts.csv, summary.csv, the --json document and the --junit XML.
+"""The texts of a check's reports: contacts.csv, summary.csv and the --json document (JUnit: reports/junit.py).
 
 Every text is rendered from a :class:`usdksl.contacts.ContactTable`, whose rows are already in canonical
 order (docs/contracts.md, Contacts). Times are written with ``repr(float)``, the shortest text that reads
@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import json
 from typing import Optional, Sequence
-from xml.etree import ElementTree
 
 import numpy as np
 
@@ -151,43 +150,20 @@ def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_
     return json.dumps(document, indent=1, allow_nan=False) + "\n"
 
 
-def junit_report(shot_path: str, plan, table: ContactTable, clock: StageClock,
-                 known: Optional[np.ndarray] = None) -> str:
-    """One testsuite per shot, one testcase per checked mesh pair; a failure when the pair has contacts
-    (with ``known`` from a baseline: new contacts)."""
-    by_pair = {(row["prim_a"], row["prim_b"]): row for row in summary_rows(table, clock, known)}
-    failures = 0
-    cases = []
-    for i, j in plan.pairs.tolist():
-        a, b = sorted((plan.paths[i], plan.paths[j]))
-        kind = "self" if i == j else "inter"
-        case = ElementTree.Element("testcase", {"classname": f"usdksl.{kind}",
-                                                "name": a if kind == "self" else f"{a} x {b}"})
-        row = by_pair.get((a, b))
-        if row is not None and row.get(NEW_FACE_PAIRS, row["face_pairs"]) == 0:
-            output = ElementTree.SubElement(case, "system-out")
-            output.text = f"{row['face_pairs']} known face pair{'s' if row['face_pairs'] != 1 else ''} in contact"
-        elif row is not None:
-            failures += 1
-            message = (f"{row['face_pairs']} face pair{'s' if row['face_pairs'] != 1 else ''} in contact, "
-                       f"first at {clock.describe(row['first_contact_time'])}")
-            if NEW_FACE_PAIRS in row:
-                message = f"{row[NEW_FACE_PAIRS]} new, " + message
-            if "last_contact_time" in row:
-                message += f", last at {clock.describe(row['last_contact_time'])}"
-            failure = ElementTree.SubElement(case, "failure", {"message": message, "type": "contact"})
-            failure.text = message
-        cases.append(case)
-    suite = ElementTree.Element("testsuite", {"name": str(shot_path), "tests": str(len(cases)),
-                                              "failures": str(failures), "errors": "0",
-                                              "skipped": "0"})
-    suite.extend(cases)
-    suites = ElementTree.Element("testsuites", {"name": "usdksl check", "tests": str(len(cases)),
-                                                "failures": str(failures), "errors": "0"})
-    suites.append(suite)
-    if hasattr(ElementTree, "indent"):  # Python >= 3.9
-        ElementTree.indent(suites)
-    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ElementTree.tostring(suites, encoding="unicode") + "\n"
+def mesh_pair_lines(table: ContactTable, clock: StageClock, known: Optional[np.ndarray] = None) -> list:
+    """One console line per mesh pair with contacts (``usdksl check -v``): its face pairs (new ones with a
+    baseline), first contact and, when computed, last contact."""
+    lines = []
+    for row in summary_rows(table, clock, known):
+        pair = row["prim_a"] if row["kind"] == "self" else f"{row['prim_a']} x {row['prim_b']}"
+        count = f"{row['face_pairs']} face pair{'s' if row['face_pairs'] != 1 else ''}"
+        if NEW_FACE_PAIRS in row:
+            count += f" ({row[NEW_FACE_PAIRS]} new)"
+        line = f"{pair} ({row['kind']}): {count}, first at {clock.describe(row['first_contact_time'])}"
+        if "last_contact_time" in row:
+            line += f", last at {clock.describe(row['last_contact_time'])}"
+        lines.append(line)
+    return lines
 
 
 def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds: float,
@@ -207,6 +183,8 @@ def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds
     first = float(table.time[0])
     found = (f"{table.count} contacting face pair{'s' if table.count != 1 else ''} in {pairs} mesh "
              f"pair{'s' if pairs != 1 else ''}, first at {clock.describe(first)}")
+    if table.last_time is not None:
+        found += f", last at {clock.describe(float(table.last_time.max()))}"
     if known is None:
         return f"usdksl: {found}; {checked}"
     new = np.flatnonzero(~np.asarray(known, bool))

@@ -21,7 +21,8 @@ from ..checking.pipeline import (WARNING, CheckOptions, CheckResult, Message, Ou
                                  output_targets)
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERROR
-from ..reports.output import write_files
+from ..reports.junit import error_suite, junit_document, shot_suite
+from ..reports.output import check_writable_directory, write_files
 from ..reports.override import shot_stem
 
 #: Characters that make a shot argument a pattern to expand (a quoted glob the shell left alone).
@@ -56,7 +57,7 @@ class ShotOutcome:
         """The shot's line in a batch: its summary, or its error."""
         if self.result is None:
             return f"usdksl: error: {self.error}"
-        return f"usdksl: {self.name}: {self.result.summary[len('usdksl: '):]}"
+        return self.result.line
 
 
 def expand_shots(arguments: Sequence[str]) -> List[str]:
@@ -74,11 +75,14 @@ def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str]
               baseline_time_tolerance: Optional[float] = None) -> List[object]:
     """A ShotJob per shot, or a failed ShotOutcome for a shot whose file or output folder is unusable.
 
-    Raises UsdkslUsageError when the call cannot work at all: --json/--junit or a baseline file (not a
-    folder) with several shots, a baseline that does not exist, or two shots that would write the same
-    files."""
-    if len(shots) > 1 and (json_path or junit_path):
-        raise UsdkslUsageError(f"--json and --junit take one shot; got {len(shots)}")
+    ``junit_path`` is only checked to be writable: the jobs do not write it, the caller writes one document
+    for all shots (:func:`junit_for_outcomes`). Raises UsdkslUsageError when the call cannot work at all:
+    --json or a baseline file (not a folder) with several shots, a baseline that does not exist, or two
+    shots that would write the same files."""
+    if len(shots) > 1 and json_path:
+        raise UsdkslUsageError(f"--json takes one shot; got {len(shots)}")
+    if junit_path:
+        check_writable_directory(Path(junit_path).resolve().parent)
     if baseline is not None:
         if not os.path.exists(baseline):
             raise UsdkslUsageError("baseline not found", file=baseline)
@@ -90,13 +94,12 @@ def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str]
     owners: Dict[Path, str] = {}
     for shot in shots:
         try:
-            targets = output_targets(shot, out, json_path, junit_path)
+            targets = output_targets(shot, out, json_path)
         except UsdkslInputError as error:
             entries.append(ShotOutcome(name=shot, exit_code=error.exit_code, error=error.one_line()))
             continue
         targets = OutputTargets(out_dir=targets.out_dir.resolve(),
                                 json_path=targets.json_path and targets.json_path.resolve(),
-                                junit_path=targets.junit_path and targets.junit_path.resolve(),
                                 json_to_stdout=targets.json_to_stdout)
         written = targets.contacts_csv(shot)
         if written in owners:
@@ -146,6 +149,19 @@ def run_here(jobs: Iterable[ShotJob], options: CheckOptions) -> Iterable[ShotOut
     """The jobs one after the other in this process, in order."""
     for job in jobs:
         yield run_job(job, options)
+
+
+def junit_for_outcomes(outcomes: Sequence[ShotOutcome]) -> str:
+    """The --junit document of a batch: one testsuite per shot, an <error> for a shot that failed."""
+    suites = []
+    for outcome in outcomes:
+        result = outcome.result
+        if result is None:
+            suites.append(error_suite(outcome.name, outcome.error or "failed"))
+        else:
+            suites.append(shot_suite(outcome.name, result.plan, result.table, result.clock,
+                                     None if result.baseline is None else result.baseline.known))
+    return junit_document(suites)
 
 
 def worst_exit_code(outcomes: Iterable[ShotOutcome]) -> int:
