@@ -79,6 +79,10 @@ def _echo(line: str) -> None:
                    "for several shots. Only new contacts count for the exit code.")
 @click.option("--baseline-time-tolerance", type=float, default=None, metavar="T",
               help="Also require a baseline entry's time to be within T time codes of the contact's.")
+@click.option("--plot", "plot_path", metavar="FILE.png", default=None,
+              help="Also draw a contact timeline: one row per mesh pair, frames across, shaded while in contact, "
+                   "a tick at each first contact. Turns on --last-contact. Needs matplotlib "
+                   "(pip install 'usdksl[plot]'). One shot only.")
 @click.option("--json", "json_path", metavar="FILE", default=None,
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
@@ -98,7 +102,7 @@ def _echo(line: str) -> None:
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
-          baseline_time_tolerance, json_path, junit_path, strict, verbosity, jobs, scheduler):
+          baseline_time_tolerance, plot_path, json_path, junit_path, strict, verbosity, jobs, scheduler):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -109,13 +113,13 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
                            include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
-                           last_contact=last_contact,
-                           strict=strict)
+                           last_contact=last_contact or plot_path is not None, strict=strict)
     shots = expand_shots(shots)
     if len(shots) == 1 and jobs is None and scheduler is None:
-        _check_one(shots[0], options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity)
+        _check_one(shots[0], options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity,
+                   plot_path)
     _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance,
-                verbosity)
+                verbosity, plot_path)
 
 
 def _fail(shots, message, junit_path, exit_code=INPUT_ERROR, kind="error"):
@@ -133,7 +137,7 @@ def _crash_message(error):
     return f"{type(error).__name__}: {' '.join(str(error).split())} (set USDKSL_DEBUG=1 for a traceback)"
 
 
-def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity):
+def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity, plot_path):
     """One shot in this process: the plan and warnings as they come, a progress bar over the shot's time."""
     def show(message):
         if message.shown(verbosity):
@@ -141,7 +145,7 @@ def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_tim
 
     try:
         options.validate()
-        targets = output_targets(shot, out, json_path, junit_path)
+        targets = output_targets(shot, out, json_path, junit_path, plot_path)
         if baseline is not None and not os.path.exists(baseline):
             raise UsdkslUsageError("baseline not found", file=baseline)
         accepted, warning = baseline_for_shot(baseline, shot_stem(shot), baseline_time_tolerance)
@@ -166,7 +170,7 @@ def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_tim
 
 
 def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance,
-                verbosity):
+                verbosity, plot_path):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total."""
     from tqdm import tqdm
 
@@ -174,7 +178,7 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
         raise click.UsageError("give --jobs or --scheduler, not both")
     try:
         options.validate()
-        entries = make_jobs(shots, out, json_path, junit_path, baseline, baseline_time_tolerance)
+        entries = make_jobs(shots, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path)
         if jobs is None and scheduler is None:
             runner = run_here
         else:

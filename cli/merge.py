@@ -25,7 +25,9 @@ from ..scale.merge import merge_chunks
               help="Contacts accepted earlier (as for check): only new contacts count for the exit code.")
 @click.option("--baseline-time-tolerance", type=float, default=None, metavar="T",
               help="Also require a baseline entry's time to be within T time codes of the contact's.")
-def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_tolerance):
+@click.option("--plot", "plot_path", metavar="FILE.png", default=None,
+              help="Also draw the contact timeline (the chunks must have been checked with --last-contact).")
+def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path):
     """Join the outputs of `usdksl check SHOT --time-range A B --out PART_DIR` chunks into what one run over
     the union of their ranges writes.
 
@@ -33,7 +35,7 @@ def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_toler
     another shot, usdksl version or set of options. Exit 0 clean, 1 contacts found.
     """
     try:
-        targets = output_targets(shot, out, json_path, junit_path)
+        targets = output_targets(shot, out, json_path, junit_path, plot_path)
         accepted = None if baseline is None else read_baseline(baseline, baseline_time_tolerance)
         result = merge_chunks(shot, parts, targets, accepted)
         write_files(result.files)

@@ -32,6 +32,7 @@ from ..reports.formats import contacts_csv, json_report, mesh_pair_lines, summar
 from ..reports.junit import junit_report
 from ..reports.manifest import file_sha256, manifest_name, manifest_text
 from ..reports.output import check_writable_directory, resolve_output_path
+from ..reports.timeline import require_matplotlib, timeline_png
 from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import __version__
 from .collision import METHODS, find_contacts
@@ -140,6 +141,8 @@ class OutputTargets:
     json_path: Optional[Path] = None
     junit_path: Optional[Path] = None
     json_to_stdout: bool = False
+    #: --plot: the contact timeline PNG (usdksl.reports.timeline).
+    plot_path: Optional[Path] = None
 
     def contacts_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.contacts.csv"
@@ -159,7 +162,7 @@ class OutputTargets:
 
 
 def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str] = None,
-                   junit_path: Optional[str] = None) -> OutputTargets:
+                   junit_path: Optional[str] = None, plot_path: Optional[str] = None) -> OutputTargets:
     """Resolve and check the output locations before any work is done: ``out`` defaults to the shot's
     folder; ``json_path`` '-' means stdout. Raises UsdkslInputError for a missing shot and
     UsdkslUsageError for a folder that cannot be written."""
@@ -167,12 +170,14 @@ def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str
         open_stage(shot)   # a missing input is reported as such, before anything about the output folder
     out_dir = Path(out) if out else Path(shot).resolve().parent
     check_writable_directory(out_dir)
-    extra = [resolve_output_path(value) for value in (json_path, junit_path)]
+    extra = [resolve_output_path(value) for value in (json_path, junit_path, plot_path)]
     for target in extra:
         if target is not None:
             check_writable_directory(target.resolve().parent)
+    if plot_path is not None:
+        require_matplotlib()
     return OutputTargets(out_dir=out_dir, json_path=extra[0], junit_path=extra[1],
-                         json_to_stdout=json_path == "-")
+                         json_to_stdout=json_path == "-", plot_path=extra[2])
 
 
 @dataclass
@@ -360,6 +365,10 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
             stdout = json_text
     if targets.junit_path is not None:
         files[targets.junit_path] = junit_report(name, plan, table, clock, known)
+    if targets.plot_path is not None:
+        if table.last_time is None:
+            raise UsdkslUsageError("the contact timeline needs last contacts (CheckOptions(last_contact=True))")
+        files[targets.plot_path] = timeline_png(table, clock, span, name, known)
     return files, stdout
 
 

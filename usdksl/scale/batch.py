@@ -72,15 +72,15 @@ def expand_shots(arguments: Sequence[str]) -> List[str]:
 
 def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str] = None,
               junit_path: Optional[str] = None, baseline: Optional[str] = None,
-              baseline_time_tolerance: Optional[float] = None) -> List[object]:
+              baseline_time_tolerance: Optional[float] = None, plot_path: Optional[str] = None) -> List[object]:
     """A ShotJob per shot, or a failed ShotOutcome for a shot whose file or output folder is unusable.
 
     ``junit_path`` is only checked to be writable: the jobs do not write it, the caller writes one document
     for all shots (:func:`junit_for_outcomes`). Raises UsdkslUsageError when the call cannot work at all:
     --json or a baseline file (not a folder) with several shots, a baseline that does not exist, or two
     shots that would write the same files."""
-    if len(shots) > 1 and json_path:
-        raise UsdkslUsageError(f"--json takes one shot; got {len(shots)}")
+    if len(shots) > 1 and (json_path or plot_path):
+        raise UsdkslUsageError(f"--json and --plot take one shot; got {len(shots)}")
     if junit_path:
         check_writable_directory(Path(junit_path).resolve().parent)
     if baseline is not None:
@@ -94,13 +94,14 @@ def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str]
     owners: Dict[Path, str] = {}
     for shot in shots:
         try:
-            targets = output_targets(shot, out, json_path)
+            targets = output_targets(shot, out, json_path, plot_path=plot_path)
         except UsdkslInputError as error:
             entries.append(ShotOutcome(name=shot, exit_code=error.exit_code, error=error.one_line()))
             continue
         targets = OutputTargets(out_dir=targets.out_dir.resolve(),
                                 json_path=targets.json_path and targets.json_path.resolve(),
-                                json_to_stdout=targets.json_to_stdout)
+                                json_to_stdout=targets.json_to_stdout,
+                                plot_path=targets.plot_path and targets.plot_path.resolve())
         written = targets.contacts_csv(shot)
         if written in owners:
             raise UsdkslUsageError(f"{owners[written]} and {shot} would both write {written}; "
