@@ -156,6 +156,10 @@ class ContactTable:
     def is_self(self) -> np.ndarray:
         return self.mesh_a == self.mesh_b
 
+    def mesh_names(self) -> List[str]:
+        """The name of each mesh index: its prim path, or the index as text for a table without paths."""
+        return self._names()
+
     def _names(self) -> List[str]:
         if self.paths is not None:
             return list(self.paths)

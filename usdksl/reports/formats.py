@@ -78,10 +78,12 @@ def summary_rows(table: ContactTable, clock: StageClock, known: Optional[np.ndar
     rows = table.summary()
     new_per_pair = {}
     if known is not None and table.count:
-        prim_a, prim_b = table.prim_names()
         new = ~np.asarray(known, bool)
-        for a, b in zip(prim_a[new].tolist(), prim_b[new].tolist()):
-            new_per_pair[(a, b)] = new_per_pair.get((a, b), 0) + 1
+        pairs, counts = np.unique(np.stack([table.mesh_a[new], table.mesh_b[new]], axis=1), axis=0,
+                                  return_counts=True)
+        names = table.mesh_names()
+        for (a, b), count in zip(pairs.tolist(), counts.tolist()):     # one per mesh pair
+            new_per_pair[(names[a], names[b])] = int(count)
     for row in rows:
         if known is not None:
             row[NEW_FACE_PAIRS] = new_per_pair.get((row["prim_a"], row["prim_b"]), 0)
