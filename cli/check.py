@@ -28,8 +28,9 @@ from ..exit_codes import INPUT_ERROR
 from ..reports.output import write_files
 from ..reports.override import shot_stem
 from ..reports.junit import junit_error_report
-from ..scale.batch import (expand_shots, junit_for_outcomes, make_jobs, run_batch, run_here, total_line,
-                           worst_exit_code)
+from ..scale.batch import (ShotOutcome, expand_shots, junit_for_outcomes, make_jobs, run_batch, run_here,
+                           total_line, worst_exit_code)
+from ..stopping import Stopped, deferred_stops, stop_on_signals
 from .options import parse_time_range
 
 
@@ -100,26 +101,56 @@ def _echo(line: str) -> None:
               help="Check the shots on a local Dask cluster of N worker processes.")
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
+              help="Stop after SECONDS: exit 2 with one line, and no files written for a shot not finished.")
+@click.option("--threads", type=click.IntRange(min=1), default=None, metavar="N",
+              help="Threads per check (default: every core this process may use); results are identical for "
+                   "any count.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
-          baseline_time_tolerance, plot_path, json_path, junit_path, strict, verbosity, jobs, scheduler):
+          baseline_time_tolerance, plot_path, json_path, junit_path, strict, verbosity, jobs, scheduler,
+          timeout, threads):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
     error (no output written for that shot); 3: the cross-check disagrees; the worst over all shots.
     The plan, warnings and the summary lines go to stderr; stdout only carries --json - .
+    Ctrl-C (SIGINT) and SIGTERM stop the check within a second or two with one line and exit 130 / 143;
+    files of a shot not finished are never written.
     """
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
                            include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
-                           last_contact=last_contact or plot_path is not None, strict=strict)
+                           last_contact=last_contact or plot_path is not None, strict=strict, threads=threads)
     shots = expand_shots(shots)
-    if len(shots) == 1 and jobs is None and scheduler is None:
-        _check_one(shots[0], options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity,
-                   plot_path)
-    _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance,
-                verbosity, plot_path)
+    finished = []
+    single = len(shots) == 1 and jobs is None and scheduler is None
+    try:
+        with stop_on_signals(timeout):
+            if single:
+                _check_one(shots[0], options, out, json_path, junit_path, baseline, baseline_time_tolerance,
+                           verbosity, plot_path)
+            _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline,
+                        baseline_time_tolerance, verbosity, plot_path, finished)
+    except Stopped as stop:
+        done = ("nothing written" if single or not finished
+                else f"{len(finished)} of {len(shots)} shots finished (their files are written), the others not")
+        line = stop.line(done, shot=shots[0] if single else None)
+        _echo(line)
+        if junit_path and junit_path != "-":
+            _write_stopped_junit(junit_path, shots, finished, line[len("usdksl: "):], stop.exit_code)
+        sys.exit(stop.exit_code)
+
+
+def _write_stopped_junit(junit_path, shots, finished, message, exit_code):
+    """The --junit report of a stopped run: the finished shots as checked, an <error> for every other."""
+    done = {outcome.name: outcome for outcome in finished}
+    outcomes = [done.get(shot) or ShotOutcome(name=shot, exit_code=exit_code, error=message) for shot in shots]
+    try:
+        write_files({junit_path: junit_for_outcomes(outcomes)})
+    except UsdkslInputError as error:
+        _echo(f"usdksl: error: {error}")
 
 
 def _fail(shots, message, junit_path, exit_code=INPUT_ERROR, kind="error"):
@@ -153,25 +184,30 @@ def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_tim
             show(Message(WARNING, warning))
         result = check_shot(shot, options, targets, on_message=show,
                             progress=Progress if verbosity > QUIET else None, baseline=accepted)
-        written = write_files(result.files)
     except UsdkslInputError as error:
         _fail([shot], error.one_line(), junit_path, error.exit_code)
     except Exception as error:  # never let a crash look like "contacts found" (exit 1)
         if os.environ.get("USDKSL_DEBUG"):
             raise
         _fail([shot], _crash_message(error), junit_path, kind="internal error")
-    if result.stdout is not None:
-        sys.stdout.write(result.stdout)
-    if verbosity >= NORMAL:
-        _echo(result.summary)
-    if verbosity >= VERBOSE:
-        _echo(f"usdksl: wrote {', '.join(str(path) for path in written)}")
-    sys.exit(result.exit_code)
+    with deferred_stops(drop=True):   # the answer is known: publish it, say so and end, uncut
+        try:
+            written = write_files(result.files)
+        except UsdkslInputError as error:
+            _fail([shot], error.one_line(), junit_path, error.exit_code)
+        if result.stdout is not None:
+            sys.stdout.write(result.stdout)
+        if verbosity >= NORMAL:
+            _echo(result.summary)
+        if verbosity >= VERBOSE:
+            _echo(f"usdksl: wrote {', '.join(str(path) for path in written)}")
+        sys.exit(result.exit_code)
 
 
 def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance,
-                verbosity, plot_path):
-    """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total."""
+                verbosity, plot_path, finished):
+    """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
+    ``finished`` collects the outcomes shown (their files are written)."""
     from tqdm import tqdm
 
     if jobs is not None and scheduler is not None:
@@ -194,6 +230,7 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
             if outcome.result is None or verbosity >= NORMAL:
                 bar.write(outcome.line(), file=sys.stderr)
             bar.update(1)
+            finished.append(outcome)
 
         try:
             outcomes = run_batch(entries, options, runner, on_outcome=show)
@@ -203,6 +240,7 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
             write_files({junit_path: junit_for_outcomes(outcomes)})
     except UsdkslInputError as error:
         _fail(shots, error.one_line(), junit_path, error.exit_code)
-    if verbosity >= NORMAL:
-        _echo(total_line(outcomes))
-    sys.exit(worst_exit_code(outcomes))
+    with deferred_stops(drop=True):
+        if verbosity >= NORMAL:
+            _echo(total_line(outcomes))
+        sys.exit(worst_exit_code(outcomes))

@@ -8,36 +8,63 @@ user needs are re-exported here. The sub-packages, by topic:
 ``usdksl.reports``     contacts.csv, summary.csv, JSON, JUnit and the override layer, written atomically
 ``usdksl.crosscheck``  static frames intersected with Embree, held against the continuous result
 ``usdksl.scale``       many shots, on one process or a Dask cluster, and farm chunks merged
+
+The names are imported on first use (PEP 562), so that ``import usdksl.stopping`` (which the command
+imports first, to hold a Ctrl-C back while numpy and USD load) costs nothing.
 """
+
+from importlib import import_module
+from importlib.util import find_spec
+from typing import TYPE_CHECKING
 
 from ._openusd import require_openusd
 
-require_openusd()   # one actionable line when neither usd-core nor a studio USD provides pxr
-
-from . import _native  # noqa: F401  (private; wrapped by the modules below)
-from . import ccd, errors
-from .checking.collision import CollisionResult, find_contacts
-from .checking.pipeline import CheckOptions, CheckResult, check_shot
-from .contacts import ContactTable
-from .errors import UsdkslInputError, UsdkslUsageError
-from .reading.loader import MeshData, Shot, load_shot
-from .reports.output import write_files
+if find_spec("pxr") is None:   # cheap: finds the module without loading USD
+    require_openusd()          # one actionable line when neither usd-core nor a studio USD provides pxr
 from .version import __version__
 
-__all__ = [
-    "__version__",
-    "ccd",
-    "CheckOptions",
-    "CheckResult",
-    "check_shot",
-    "CollisionResult",
-    "ContactTable",
-    "errors",
-    "find_contacts",
-    "load_shot",
-    "MeshData",
-    "Shot",
-    "UsdkslInputError",
-    "UsdkslUsageError",
-    "write_files",
-]
+#: Public name -> the module that defines it (a module itself when the name is a sub-module).
+_EXPORTS = {
+    "_native": "usdksl._native",
+    "ccd": "usdksl.ccd",
+    "errors": "usdksl.errors",
+    "CollisionResult": "usdksl.checking.collision",
+    "find_contacts": "usdksl.checking.collision",
+    "CheckOptions": "usdksl.checking.pipeline",
+    "CheckResult": "usdksl.checking.pipeline",
+    "check_shot": "usdksl.checking.pipeline",
+    "ContactTable": "usdksl.contacts",
+    "UsdkslInputError": "usdksl.errors",
+    "UsdkslUsageError": "usdksl.errors",
+    "MeshData": "usdksl.reading.loader",
+    "Shot": "usdksl.reading.loader",
+    "load_shot": "usdksl.reading.loader",
+    "write_files": "usdksl.reports.output",
+}
+
+__all__ = ["__version__"] + sorted(name for name in _EXPORTS if not name.startswith("_"))
+
+
+def __getattr__(name):
+    module_name = _EXPORTS.get(name)
+    if module_name is None:
+        raise AttributeError(f"module 'usdksl' has no attribute {name!r}")
+    require_openusd()   # one actionable line when neither usd-core nor a studio USD provides pxr
+    module = import_module(module_name)
+    value = module if module_name.endswith("." + name) else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))
+
+
+if TYPE_CHECKING:   # what the names are, for type checkers and readers
+    from . import _native, ccd, errors  # noqa: F401
+    from .checking.collision import CollisionResult, find_contacts  # noqa: F401
+    from .checking.pipeline import CheckOptions, CheckResult, check_shot  # noqa: F401
+    from .contacts import ContactTable  # noqa: F401
+    from .errors import UsdkslInputError, UsdkslUsageError  # noqa: F401
+    from .reading.loader import MeshData, Shot, load_shot  # noqa: F401
+    from .reports.output import write_files  # noqa: F401

@@ -8,3 +8,7 @@ CONTACTS_FOUND = 1
 INPUT_ERROR = 2
 #: The Embree cross-check disagrees with the continuous result.
 CROSSCHECK_DISAGREES = 3
+#: Stopped by SIGINT (Ctrl-C): 128 + 2, what a shell reports for a process SIGINT killed.
+INTERRUPTED = 130
+#: Stopped by SIGTERM (a farm pre-empting the task): 128 + 15.
+TERMINATED = 143

@@ -1,9 +1,10 @@
 """What a person and a CI job get from ``usdksl check``: a concise console (-v, -q), warnings on stderr, and a
 JUnit file on every exit code that is valid as Jenkins reads it (tests/junit_schema.py)."""
 
-from xml.etree import ElementTree
+import subprocess
+import sys
+from pathlib import Path
 
-import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -11,6 +12,8 @@ from usdksl.cli.main import main
 
 from builders import QUAD_POINTS, add_mesh, falling_quad_samples, new_stage, snapshot
 from junit_schema import assert_valid_junit
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
 
 
 def _run(*args):
@@ -155,3 +158,17 @@ def test_the_schema_checks_can_fail():
             assert_valid_junit(text)
     assert_valid_junit('<testsuites><testsuite name="s" tests="1" failures="1" errors="0" time="1,234.5">'
                        '<testcase name="c"><failure message="m">text</failure></testcase></testsuite></testsuites>')
+
+
+def test_a_run_stopped_by_its_timeout_still_writes_the_junit_report(tmp_path):
+    shot = tmp_path / "swirl.usdc"
+    subprocess.run([sys.executable, str(REPO_ROOT / "samples" / "generate.py"), "swirl", "--faces", "1500",
+                    "--keyframes", "4", "--samples-per-keyframe", "2", "--out", str(shot)],
+                   check=True, capture_output=True)
+    report = tmp_path / "report.xml"
+    out = tmp_path / "out"
+    result = _run(shot, "--out", out, "--junit", report, "--timeout", "1")
+    assert result.exit_code == 2, result.output
+    assert not out.exists()
+    errors = assert_valid_junit(report.read_text()).findall("testsuite/testcase/error")
+    assert len(errors) == 1 and "timed out after 1 s (--timeout)" in errors[0].get("message")

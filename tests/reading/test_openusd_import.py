@@ -21,8 +21,11 @@ def _without_pxr(tmp_path):
     return env
 
 
-def test_import_without_pxr_is_one_actionable_line(tmp_path):
-    result = subprocess.run([sys.executable, "-c", "import usdksl"], cwd=tmp_path, env=_without_pxr(tmp_path),
+def test_using_usdksl_without_pxr_is_one_actionable_line(tmp_path):
+    # usdksl imports its modules on first use (so the command can hold back a Ctrl-C while USD loads);
+    # the first name that needs pxr fails with the one line.
+    result = subprocess.run([sys.executable, "-c", "import usdksl; usdksl.load_shot"], cwd=tmp_path,
+                            env=_without_pxr(tmp_path),
                             capture_output=True, text=True)
     assert result.returncode != 0
     lines = [line for line in result.stderr.splitlines() if "usdksl needs" in line]

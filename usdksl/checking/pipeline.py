@@ -107,6 +107,9 @@ class CheckOptions:
     #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
     #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
     strict: bool = False
+    #: Threads of the core (None: every core this process may use). Does not change any result, so
+    #: not in settings().
+    threads: Optional[int] = None
 
     def validate(self) -> None:
         """Raise UsdkslUsageError (exit 2) on a value the check cannot use."""
@@ -448,7 +451,8 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
     if not plan.checked_pairs:
         return ContactTable.empty(paths)
     result = find_contacts(segment.meshes, plan.pairs, method=options.method, time_range=segment_range,
-                           tolerance=options.tolerance, thickness=options.thickness, progress=progress)
+                           tolerance=options.tolerance, thickness=options.thickness, progress=progress,
+                           threads=options.threads)
     undecided = int(np.count_nonzero(result.undecided))
     if counters is not None:
         for name, value in list(result.counters.items()) + [(UNDECIDED_COUNTER, undecided)]:

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Dict, List, Mapping, Optional, Union
 
 from ..errors import UsdkslUsageError
+from ..stopping import deferred_stops
 
 TEMP_PREFIX = ".usdksl-tmp-"
 _FILE_MODE = 0o666
@@ -38,13 +39,14 @@ def check_writable_directory(directory: Union[str, Path]) -> Path:
         probe = probe.parent
     if not probe.is_dir():
         raise UsdkslUsageError("output directory cannot be written: not a directory", file=str(probe))
-    try:
-        handle, name = tempfile.mkstemp(prefix=TEMP_PREFIX, dir=str(probe))
-    except OSError as error:
-        raise UsdkslUsageError(f"output directory cannot be written: {error.strerror}",
-                               file=str(probe)) from None
-    os.close(handle)
-    os.unlink(name)
+    with deferred_stops():   # a Ctrl-C must not leave the probe behind
+        try:
+            handle, name = tempfile.mkstemp(prefix=TEMP_PREFIX, dir=str(probe))
+        except OSError as error:
+            raise UsdkslUsageError(f"output directory cannot be written: {error.strerror}",
+                                   file=str(probe)) from None
+        os.close(handle)
+        os.unlink(name)
     return directory
 
 
@@ -83,39 +85,47 @@ class OutputTransaction:
         """Write every file to a temp name beside its target, then rename them all into place.
 
         Directories that did not exist are created and removed again when a write fails. Raises
-        UsdkslUsageError (exit 2) naming the target that could not be written.
+        UsdkslUsageError (exit 2) naming the target that could not be written. A stop (Ctrl-C, SIGTERM,
+        a timeout; usdksl.stopping) while the files are written removes them all again; creating a
+        temporary file and the renames are never cut in half by one.
         """
         created_dirs: List[Path] = []
         temps: List[tuple] = []
         try:
             for target in self._pending:
-                created_dirs.extend(_make_directories(target.parent))
+                with deferred_stops():
+                    created_dirs.extend(_make_directories(target.parent))
             for target, data in self._pending.items():
-                handle, temp_name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=".part", dir=str(target.parent))
-                temps.append((temp_name, target))
+                with deferred_stops():
+                    handle, temp_name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=".part",
+                                                         dir=str(target.parent))
+                    temps.append((temp_name, target))
                 with os.fdopen(handle, "wb") as stream:
                     stream.write(data)
                     stream.flush()
                     os.fsync(stream.fileno())
                 os.chmod(temp_name, _FILE_MODE & ~_current_umask())  # mkstemp makes 0600; be a normal file
         except OSError as error:
-            _discard(temps, created_dirs)
+            with deferred_stops():
+                _discard(temps, created_dirs)
             failed = getattr(error, "filename", None) or (temps[-1][1] if temps else None)
             raise UsdkslUsageError(f"cannot write output: {error.strerror or error}", file=str(failed)) from None
         except BaseException:
-            _discard(temps, created_dirs)
+            with deferred_stops():
+                _discard(temps, created_dirs)
             raise
-        for temp_name, target in temps:
-            os.replace(temp_name, target)
-        for stale in self._removals:
-            try:
-                stale.unlink()
-            except FileNotFoundError:
-                pass
-            except OSError as error:
-                raise UsdkslUsageError(f"cannot remove stale output: {error.strerror or error}",
-                                       file=str(stale)) from None
-        self._committed = True
+        with deferred_stops():
+            for temp_name, target in temps:
+                os.replace(temp_name, target)
+            for stale in self._removals:
+                try:
+                    stale.unlink()
+                except FileNotFoundError:
+                    pass
+                except OSError as error:
+                    raise UsdkslUsageError(f"cannot remove stale output: {error.strerror or error}",
+                                           file=str(stale)) from None
+            self._committed = True
         return [target for _, target in temps]
 
     def __enter__(self) -> "OutputTransaction":

@@ -24,6 +24,7 @@ from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERRO
 from ..reports.junit import error_suite, junit_document, shot_suite
 from ..reports.output import check_writable_directory, write_files
 from ..reports.override import shot_stem
+from ..stopping import deferred_stops
 
 #: Characters that make a shot argument a pattern to expand (a quoted glob the shell left alone).
 GLOB_CHARACTERS = "*?["
@@ -187,7 +188,8 @@ def run_batch(entries: Sequence[object], options: CheckOptions, runner: Callable
               on_outcome: Optional[Callable[[ShotOutcome], None]] = None) -> List[ShotOutcome]:
     """Run every ShotJob of ``entries`` with ``runner(jobs, options)`` (an iterator of outcomes in any
     order), write each shot's files as its outcome arrives, and return the outcomes in the order of
-    ``entries`` (failed entries of :func:`make_jobs` included)."""
+    ``entries`` (failed entries of :func:`make_jobs` included). A stop (usdksl.stopping) ends the loop
+    between two shots: shots already handed to ``on_outcome`` are written, the others not."""
     jobs = [entry for entry in entries if isinstance(entry, ShotJob)]
     done: Dict[str, ShotOutcome] = {}
     for entry in entries:
@@ -196,8 +198,9 @@ def run_batch(entries: Sequence[object], options: CheckOptions, runner: Callable
             if on_outcome is not None:
                 on_outcome(entry)
     for outcome in runner(jobs, options):
-        outcome = write_outcome(outcome)
-        done[outcome.name] = outcome
-        if on_outcome is not None:
-            on_outcome(outcome)
+        with deferred_stops():   # a shot's files and its line come together, or neither does
+            outcome = write_outcome(outcome)
+            done[outcome.name] = outcome
+            if on_outcome is not None:
+                on_outcome(outcome)
     return [done[entry.name] for entry in entries]

@@ -9,13 +9,14 @@ shot reaches the client, so a retry can neither lose nor duplicate a contact.
 
 from __future__ import annotations
 
-import logging
 from contextlib import contextmanager
 from typing import Iterator, Optional, Sequence
 
 from ..checking.pipeline import CheckOptions
 from ..errors import UsdkslUsageError
+from ..stopping import Stopped
 from .batch import ShotJob, ShotOutcome, run_job
+from .local_cluster import local_cluster_client
 
 #: Extra runs of a task that raised (a worker that dies does not count: Dask reschedules its tasks).
 TASK_RETRIES = 2
@@ -25,10 +26,11 @@ CONNECT_TIMEOUT_SECONDS = 30
 
 @contextmanager
 def dask_client(workers: Optional[int] = None, scheduler: Optional[str] = None):
-    """A distributed Client: on a new LocalCluster of ``workers`` single-threaded processes, or on the
-    scheduler at ``scheduler`` (tcp://host:port). The cluster is closed on exit."""
+    """A distributed Client: on a new LocalCluster of ``workers`` single-threaded processes
+    (usdksl.scale.local_cluster), or on the scheduler at ``scheduler`` (tcp://host:port). The cluster is
+    closed on exit."""
     try:
-        from distributed import Client, LocalCluster
+        from distributed import Client
     except ImportError:   # pragma: no cover  (a dependency of the package)
         raise UsdkslUsageError("--jobs and --scheduler need dask[distributed]") from None
     if scheduler:
@@ -39,9 +41,7 @@ def dask_client(workers: Optional[int] = None, scheduler: Optional[str] = None):
         with client:
             yield client
         return
-    # One thread per worker: the core is single-threaded and pxr is not thread-safe for writing.
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+    with local_cluster_client(workers) as client:
         yield client
 
 
@@ -56,5 +56,12 @@ def run_on_dask(jobs: Sequence[ShotJob], options: CheckOptions, workers: Optiona
         futures = [client.submit(run_job, job, options, key=f"usdksl-check-{index}-{job.name}", pure=False,
                                  retries=TASK_RETRIES)
                    for index, job in enumerate(jobs)]
-        for future in as_completed(futures):
-            yield future.result()
+        try:
+            for future in as_completed(futures):
+                yield future.result()
+        except Stopped:
+            # On a scheduler of its own the tasks go on running until they end; their results are
+            # not wanted (a local cluster's workers are killed by local_cluster_client).
+            if scheduler:
+                client.cancel(futures)
+            raise

@@ -8,6 +8,31 @@
 namespace usdksl {
 namespace {
 
+/// Triangle-pair tests between two progress calls. The callback is also where a
+/// stop request (Ctrl-C, SIGTERM, a timeout) is raised, so it must come every few
+/// milliseconds of work, not only once per interval or per mesh pair.
+constexpr int64_t kProgressEveryTests = 1 << 8;
+
+/// Calls options.progress every kProgressEveryTests triangle-pair tests.
+class ProgressTicker {
+public:
+    ProgressTicker(const CheckOptions& options, const TrianglePairTester& tester)
+        : options_(options), tester_(tester) {}
+
+    void tested(double t) {
+        if (options_.progress && ++tests_ % kProgressEveryTests == 0) report(t);
+    }
+
+    void report(double t) const {
+        if (options_.progress) options_.progress(t, static_cast<int64_t>(tester_.contacts().size()));
+    }
+
+private:
+    const CheckOptions& options_;
+    const TrianglePairTester& tester_;
+    int64_t tests_ = 0;
+};
+
 std::vector<std::unique_ptr<AabbTree>> build_trees(const Scene& scene,
                                                    const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
                                                    double t_build) {
@@ -44,6 +69,7 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
     const std::vector<double> times = merged_sample_times(scene, mesh_pairs, options.t_begin, options.t_end);
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
     const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
+    ProgressTicker ticker(options, tester);
     // Static test at the range start, on boxes of that instant.
     refit_all(trees, options.t_begin, options.t_begin, padding);
     for (const auto& [ma, mb] : mesh_pairs) {
@@ -51,6 +77,7 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
         for_each_overlapping_leaf_pair(*trees[ma], *trees[mb], ma == mb, &counters.bv_tests,
                                        [&](int32_t ta, int32_t tb) {
                                            if (!tester.settled(ma, ta, mb, tb)) tester.test_static(ma, ta, mb, tb, options.t_begin);
+                                           ticker.tested(options.t_begin);
                                        });
     }
     for (size_t i = 0; i + 1 < times.size(); ++i) {
@@ -62,9 +89,10 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
                 *trees[ma], *trees[mb], ma == mb, &counters.bv_tests, [&](int32_t ta, int32_t tb) {
                     // As in the paper's baseline, every overlapping pair is tested on every interval.
                     if (!tester.settled(ma, ta, mb, tb)) tester.test_step(ma, ta, mb, tb, PairStep{t0, t1});
+                    ticker.tested(t0);
                 });
         }
-        if (options.progress) options.progress(t1, static_cast<int64_t>(tester.contacts().size()));
+        ticker.report(t1);
     }
 }
 
@@ -82,6 +110,7 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
     }
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
     const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
+    ProgressTicker ticker(options, tester);
     for (double t : instants) {
         refit_all(trees, t, t, padding);
         for (const auto& [ma, mb] : mesh_pairs) {
@@ -89,31 +118,35 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
             for_each_overlapping_leaf_pair(*trees[ma], *trees[mb], ma == mb, &counters.bv_tests,
                                            [&](int32_t ta, int32_t tb) {
                                                if (!tester.settled(ma, ta, mb, tb)) tester.test_static(ma, ta, mb, tb, t);
+                                               ticker.tested(t);
                                            });
         }
-        if (options.progress) options.progress(t, static_cast<int64_t>(tester.contacts().size()));
+        ticker.report(t);
     }
 }
 
 void run_brute_force(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
                      const CheckOptions& options, TrianglePairTester& tester) {
+    ProgressTicker ticker(options, tester);
     for (const auto& [ma, mb] : mesh_pairs) {
         const int32_t na = static_cast<int32_t>(scene.meshes[ma].triangles.size());
         const int32_t nb = static_cast<int32_t>(scene.meshes[mb].triangles.size());
         for (int32_t ta = 0; ta < na; ++ta) {
             for (int32_t tb = (ma == mb ? ta + 1 : 0); tb < nb; ++tb) {
+                ticker.tested(options.t_begin);
                 if (tester.settled(ma, ta, mb, tb)) continue;
                 if (tester.test_static(ma, ta, mb, tb, options.t_begin)) continue;
                 double t = options.t_begin;
                 while (true) {
                     const PairStep step = tester.step_containing(ma, ta, mb, tb, t);
                     if (!step.valid() || step.begin >= options.t_end) break;
+                    ticker.tested(step.begin);
                     if (tester.test_step(ma, ta, mb, tb, step)) break;
                     t = step.end;
                 }
             }
         }
-        if (options.progress) options.progress(options.t_end, static_cast<int64_t>(tester.contacts().size()));
+        ticker.report(options.t_end);
     }
 }
 
