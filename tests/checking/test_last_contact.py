@@ -93,3 +93,10 @@ def test_command_writes_last_contact_columns(samples_dir, tmp_path):
     with open(tmp_path / "fold.summary.csv", newline="") as handle:
         summary = list(csv.DictReader(handle))
     assert float(summary[0]["last_contact_time"]) == max(float(row["last_time"]) for row in rows)
+
+
+def test_last_contacts_are_the_same_for_any_thread_count(samples_dir):
+    path = str(samples_dir / "fold.usda")
+    one, two = _check(path, threads=1), _check(path, threads=2)
+    assert np.array_equal(one.table.pair_rows(), two.table.pair_rows())
+    assert np.array_equal(one.table.last_time, two.table.last_time)

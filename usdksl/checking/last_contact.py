@@ -55,13 +55,15 @@ class LastContacts:
 
 def last_contacts(meshes: Sequence, pairs: np.ndarray, table: ContactTable, time_range: Optional[TimeRange],
                   method: str, tolerance: float, thickness: float,
-                  progress: Optional[Callable[[float, int], None]] = None) -> LastContacts:
+                  progress: Optional[Callable[[float, int], None]] = None,
+                  threads: Optional[int] = None) -> LastContacts:
     """The last contact of every face pair of ``table`` (the first contacts of ``meshes`` over
-    ``time_range`` with the same settings). ``progress`` receives reversed times (``-t``)."""
+    ``time_range`` with the same settings, ``threads`` as for them). ``progress`` receives reversed
+    times (``-t``)."""
     start, end = checked_range(meshes, time_range)
     backwards = [reversed_mesh(mesh) for mesh in meshes]
     result = find_contacts(backwards, pairs, method=method, time_range=(-end, -start), tolerance=tolerance,
-                           thickness=thickness, progress=progress)
+                           thickness=thickness, progress=progress, threads=threads)
     reversed_table = result.face_contacts(backwards)
     latest = replace(reversed_table, time=-reversed_table.time)
     found, only_in_reverse = match_face_pairs(table, latest)

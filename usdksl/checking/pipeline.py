@@ -464,7 +464,7 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
     if not options.last_contact:
         return table
     last = last_contacts(segment.meshes, plan.pairs, table, segment_range, options.method, options.tolerance,
-                         options.thickness, progress=reverse_progress)
+                         options.thickness, progress=reverse_progress, threads=options.threads)
     if say is not None and last.missing_in_reverse:
         say(WARNING, f"{last.missing_in_reverse} face pairs were not found played backwards; their last "
                      f"contact is reported at their first")
