@@ -26,8 +26,8 @@ from ..checking.progress import Progress, progress_enabled
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import INPUT_ERROR
 from ..reports.output import write_files
-from ..reports.override import shot_stem
 from ..reports.junit import junit_error_report
+from ..reports.override import shot_stem
 from ..scale.batch import (ShotOutcome, expand_shots, junit_for_outcomes, make_jobs, run_batch, run_here,
                            total_line, worst_exit_code)
 from ..stopping import Stopped, deferred_stops, stop_on_signals
