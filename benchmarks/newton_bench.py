@@ -313,6 +313,17 @@ def markdown(entries: List[Dict], command: str) -> str:
         lines.append(f"| {entry['name']} | {size} | " + " | ".join(cells) + f" | {both('ksl/swept')} | "
                      f"{both('check/ipctk')} | {both('check/ipctk-sweep')} | {fmt(r.get('ksl us/narrow-phase test'))} | "
                      f"{fmt(r.get('swept us/narrow-phase test'))} | {entry['load_average_at_start'][0]:g} |")
+    lines += ["", "Caches (recording metadata from each cache's sidecar JSON / customLayerData):", "",
+              "| cache | recorded with | frames | scale | cloth triangles | meshes (checked pairs) | simulation s |",
+              "|---|---|---|---|---|---|---|"]
+    for entry in entries:
+        recording, shot = entry.get("recording") or {}, entry.get("shot", {})
+        made = (f"`{recording['command']}` (Newton {recording.get('newtonVersion')})" if "command" in recording
+                else f"third party, see {recording.get('readme', '?')}")
+        lines.append(f"| {entry['name']} | {made} | {recording.get('frames', shot.get('samples', '?'))} | "
+                     f"{recording.get('scale', '-')} | {recording.get('clothTriangles', shot.get('moving_triangles', '?'))} | "
+                     f"{shot.get('meshes', '?')} ({shot.get('checked_pairs', '?')}) | "
+                     f"{recording.get('simulationSeconds', '-')} |")
     lines += ["", "Counters and face pairs:", "",
               "| cache | method | face pairs | narrow_phase_tests | primitive_queries | events (polygons_collide) |",
               "|---|---|---|---|---|---|"]

@@ -4,6 +4,7 @@ import sys
 
 import click
 
+from ..baseline import read_baseline
 from ..checking.pipeline import output_targets
 from ..errors import UsdkslInputError
 from ..reports.output import write_files
@@ -20,7 +21,13 @@ from ..scale.merge import merge_chunks
               help="Also write the JSON report of the merged run; '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
               help="Also write the JUnit XML report of the merged run.")
-def merge(shot, parts, out, json_path, junit_path):
+@click.option("--baseline", "baseline", metavar="FILE", default=None,
+              help="Contacts accepted earlier (as for check): only new contacts count for the exit code.")
+@click.option("--baseline-time-tolerance", type=float, default=None, metavar="T",
+              help="Also require a baseline entry's time to be within T time codes of the contact's.")
+@click.option("--plot", "plot_path", metavar="FILE.png", default=None,
+              help="Also draw the contact timeline (the chunks must have been checked with --last-contact).")
+def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path):
     """Join the outputs of `usdksl check SHOT --time-range A B --out PART_DIR` chunks into what one run over
     the union of their ranges writes.
 
@@ -28,8 +35,9 @@ def merge(shot, parts, out, json_path, junit_path):
     another shot, usdksl version or set of options. Exit 0 clean, 1 contacts found.
     """
     try:
-        targets = output_targets(shot, out, json_path, junit_path)
-        result = merge_chunks(shot, parts, targets)
+        targets = output_targets(shot, out, json_path, junit_path, plot_path)
+        accepted = None if baseline is None else read_baseline(baseline, baseline_time_tolerance)
+        result = merge_chunks(shot, parts, targets, accepted)
         write_files(result.files)
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)

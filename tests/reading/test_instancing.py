@@ -170,7 +170,7 @@ def test_info_lists_instances_and_prims_selects_them(scatter, tmp_path):
     assert sorted(listed) == sorted(f"{INSTANCER}[{i}]{r}" for i, rs in INSTANCE_MESHES.items() for r in rs)
     assert f"instances: 6 meshes from 1 PointInstancer ({INSTANCER})" in result.stdout
     selected = run_cli("check", path, "--out", tmp_path / "out", "--prims", INSTANCER, "--prims", "/World/Sheet",
-                       "--exclude", f"{INSTANCER}[[]4]*")
+                       "--exclude", f"{INSTANCER}[[]4]*", "-v")
     assert selected.exit_code == 1, selected.stderr
     assert f"check /World/Sheet x {INSTANCER}[0]/box" in selected.stderr
     assert f"{INSTANCER}[4]/box" not in selected.stderr.replace(f"skip mesh {INSTANCER}[4]/box", "")
@@ -179,7 +179,7 @@ def test_info_lists_instances_and_prims_selects_them(scatter, tmp_path):
 def test_excluding_an_instancer_skips_its_checks_too(tmp_path):
     path = tmp_path / "swap.usda"
     falling_instancer(path, proto_index_change=(6.0, 3, 0))   # an input error when the instancer is read
-    result = run_cli("check", path, "--out", tmp_path / "out", "--exclude", INSTANCER)
+    result = run_cli("check", path, "--out", tmp_path / "out", "--exclude", INSTANCER, "-v")
     assert result.exit_code == 0, result.stderr
     assert f"skip mesh {INSTANCER}[0]/box: excluded by --prims/--exclude (not loaded)" in result.stderr
 

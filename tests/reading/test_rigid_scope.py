@@ -43,11 +43,11 @@ def _summary(directory):
 def test_default_report_holds_only_pairs_with_the_cloth(tmp_path):
     path = tmp_path / "bodies.usda"
     names = rigid_bodies_and_cloth(path)
-    default = run_cli("check", path, "--out", tmp_path / "default")
+    default = run_cli("check", path, "--out", tmp_path / "default", "-v")
     assert default.exit_code == 1, default.stderr
     pairs = _summary(tmp_path / "default")
     assert pairs and all(names["cloth"] in pair for pair in pairs)
-    summary_line = default.stderr.strip().splitlines()[-1]
+    summary_line = default.stderr.strip().splitlines()[-2]       # then -v names the files written
     assert "3 rigid-only pairs left out" in summary_line and "--rigid" in summary_line
     assert "skip 3 pairs: neither deforms (use --rigid)" in default.stderr
 

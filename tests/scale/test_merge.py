@@ -50,6 +50,43 @@ def test_merged_chunks_equal_one_run_over_their_union(fold, tmp_path, whole, cut
     assert result.stderr.startswith(f"usdksl: merged {len(cuts)} chunks: 132 contacting face pairs")
 
 
+def test_merged_last_contacts_equal_one_run_over_their_union(fold, tmp_path):
+    whole = tmp_path / "whole"
+    assert _run("check", fold, "--time-range", 1, 36, "--out", whole, "--last-contact").exit_code == 1
+    # the fold's face pairs touch from about t = 31.9 on, across the cut at 33
+    folders = [_chunk(fold, tmp_path / f"part{index}", start, end, "--last-contact")
+               for index, (start, end) in enumerate(((1, 33), (33, 36)))]
+    out = tmp_path / "merged"
+    result = _run("merge", fold, *folders, "--out", out)
+    assert result.exit_code == 1, result.output
+    for name in ("fold.contacts.csv", "fold.summary.csv", "fold.usdksl.usda"):
+        assert (out / name).read_bytes() == (whole / name).read_bytes(), name
+    assert "last_time" in (out / "fold.contacts.csv").read_text().splitlines()[0]
+
+
+def test_merged_with_a_baseline_equals_one_run_with_it(fold, tmp_path, whole):
+    baseline = tmp_path / "baseline.csv"
+    lines = whole["fold.contacts.csv"].decode().splitlines(keepends=True)
+    baseline.write_text("".join(lines[:1] + lines[2:]))               # the first face pair becomes new
+    one = tmp_path / "one"
+    assert _run("check", fold, "--time-range", 1, 36, "--out", one, "--baseline", baseline).exit_code == 1
+    folders = [_chunk(fold, tmp_path / f"part{index}", start, end)
+               for index, (start, end) in enumerate(((1, 20), (20, 36)))]
+    out = tmp_path / "merged"
+    result = _run("merge", fold, *folders, "--out", out, "--baseline", baseline)
+    assert result.exit_code == 1, result.output
+    for name in ("fold.contacts.csv", "fold.summary.csv"):
+        assert (out / name).read_bytes() == (one / name).read_bytes(), name
+    assert (out / "fold.contacts.csv").read_text().count(",new\n") == 1
+
+
+def test_chunks_with_and_without_last_contacts_are_refused(fold, tmp_path):
+    out = tmp_path / "merged"
+    result = _run("merge", fold, _chunk(fold, tmp_path / "a", 1, 20),
+                  _chunk(fold, tmp_path / "b", 20, 36, "--last-contact"), "--out", out)
+    _refused(result, "other options", out)
+
+
 def test_merged_output_merges_again(fold, tmp_path, whole):
     first = _run("merge", fold, _chunk(fold, tmp_path / "a", 1, 10), _chunk(fold, tmp_path / "b", 10, 20),
                  "--out", tmp_path / "ab")

@@ -15,12 +15,14 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..baseline import Baseline, compare
 from ..checking.pipeline import CheckOptions, CheckResult, OutputTargets, load_segments, render_files
-from ..contacts import ContactTable
+from ..clock import StageClock
+from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND
 from ..reading.meshes import STATIC
@@ -131,14 +133,27 @@ def check_overlap(earlier: Chunk, later: Chunk, first: ContactTable, second: Con
                                f"touching at time {float(second.time[missing][0])!r}", file=str(later.folder))
 
 
+def merged_last_times(table: ContactTable, tables: Sequence[ContactTable], paths: Sequence[str]) -> np.ndarray:
+    """float64[C]: each face pair's last contact over the union of the chunks, the latest of its chunks'
+    last contacts (the mirror image of the earliest first contact: docs/contracts.md, Last contacts).
+    Raises UsdkslUsageError when a chunk has no last-contact columns."""
+    if any(chunk_table.last_time is None for chunk_table in tables):
+        raise UsdkslUsageError("cannot merge: a chunk was checked without --last-contact")
+    latest = latest_per_face_pair(paths, *(np.concatenate([getattr(t, name) for t in tables])
+                                           for name in ("last_time", "mesh_a", "face_a", "mesh_b", "face_b")))
+    return latest.time[match_face_pairs(table, latest)[0]]
+
+
 def _pair_rows(table: ContactTable) -> np.ndarray:
     """int64[C, 4]: (mesh_a, face_a, mesh_b, face_b) per row."""
     return np.stack([table.mesh_a, table.face_a, table.mesh_b, table.face_b], axis=1).astype(np.int64)
 
 
-def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> CheckResult:
+def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
+                 baseline: Optional[Baseline] = None) -> CheckResult:
     """What ``usdksl check SHOT --time-range START END`` writes, START..END the union of the chunks'
-    ranges, from the chunks' outputs. Raises UsdkslUsageError (one line) when they cannot be merged."""
+    ranges, from the chunks' outputs (with ``baseline``: what that check with ``--baseline`` writes).
+    Raises UsdkslUsageError (one line) when they cannot be merged."""
     started = time.monotonic()
     chunks = read_chunks(shot, folders)
     settings = chunks[0].manifest["settings"]
@@ -146,7 +161,8 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> C
     options = CheckOptions(method=settings["method"], tolerance=settings["tolerance"],
                            thickness=settings["thickness"], self_check=settings["self"], inter_check=settings["inter"],
                            time_range=span, prims=tuple(settings["prims"]), exclude=tuple(settings["exclude"]),
-                           include_guides=settings["include_guides"], include_invisible=settings["include_invisible"])
+                           include_guides=settings["include_guides"], include_invisible=settings["include_invisible"],
+                           last_contact=settings.get("last_contact", False))
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
     messages: List[str] = []
@@ -172,11 +188,16 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets) -> C
             check_overlap(earlier, chunks[j], tables[i], tables[j])
     table = ContactTable.from_rows(paths, *(np.concatenate([getattr(t, name) for t in tables])
                                             for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
-    exit_code = CONTACTS_FOUND if table.count else CLEAN
-    files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span)
+    if options.last_contact:
+        table = table.with_last_times(merged_last_times(table, tables, paths))
+    comparison = None if baseline is None else compare(table, baseline)
+    exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
+    files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span,
+                                 comparison=comparison)
     return CheckResult(shot=shot, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters={}, messages=[], files=files, stdout=stdout,
-                       segments=[(span, table)])
+                       segments=[(span, table)], clock=StageClock.from_metadata(loaded.metadata),
+                       baseline=comparison)
 
 
 __all__ = ["Chunk", "check_overlap", "merge_chunks", "read_chunks"]
