@@ -27,11 +27,6 @@ constexpr double DEFAULT_THICKNESS = 0.0;
 ///        reported contact is confirmed on the raw samples.
 constexpr double FLIGHTPLAN_COLLINEAR_TOLERANCE = 0x1p-22;
 
-/// @brief Relative slack (to the larger magnitude of the two vertices compared)
-///        by which a kinetic certificate lets one vertex overtake another
-///        before it fails; boxes grow by the accumulated slack so nothing is missed.
-constexpr double KINETIC_ORDER_TOLERANCE = 1e-12;
-
 /// @brief Relative padding (to the magnitude of the vertices under a box)
 ///        added to every box overlap test on top of the thickness, covering
 ///        rounding in box evaluation. Local, so one far-away vertex pads only

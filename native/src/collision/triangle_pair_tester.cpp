@@ -1,6 +1,5 @@
 #include "usdksl/collision/triangle_pair_tester.hpp"
 
-#include "usdksl/collision/pair_clearance.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
 #include <algorithm>
@@ -113,7 +112,7 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
 }
 
 StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from,
-                                       double until, bool use_clearance, int64_t max_steps) {
+                                       double until, bool use_clearance, ClearanceRun* carried) {
     constexpr double infinity = std::numeric_limits<double>::infinity();
     canonical_order(mesh_a, tri_a, mesh_b, tri_b);
     const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
@@ -129,11 +128,22 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
     // A clearance certificate skips steps on which the pair provably stays
     // out of reach; one that fails at once backs off for a few steps, so a
     // pair in near contact does not pay for it on every step.
-    PairClearance clearance;
-    bool certified = false, fresh = false;
-    int32_t wait = 0, backoff = 1;
+    ClearanceRun local;
+    ClearanceRun& run = carried && carried->valid_at == from ? *carried : local;
+    PairClearance& clearance = run.clearance;
+    bool& certified = run.certified;
+    bool& fresh = run.fresh;
+    int32_t& wait = run.wait;
+    int32_t& backoff = run.backoff;
+    // Only a run that followed every step up to `from` may go on.
+    const auto finish = [&](StepRun result) {
+        if (carried) {
+            if (&run == &local) *carried = local;
+            carried->valid_at = result.hit ? -infinity : result.tested_until;
+        }
+        return result;
+    };
     const double contact_distance = settings_for(mesh_a, mesh_b).thickness;
-    int64_t steps = 0;
     double t = from;
     while (true) {
         // The step containing t, as step_containing() finds it.
@@ -150,7 +160,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
                 end = std::min(end, kt);
             }
         }
-        if (!std::isfinite(end)) return {infinity, false};
+        if (!std::isfinite(end)) return finish({infinity, false});
         if (!std::isfinite(begin)) begin = std::min(t, end);
         // Every vertex's segment holds `begin` too (no breakpoint lies in (begin, t]).
         std::array<Vec3, 3> a0, a1, b0, b1;
@@ -163,21 +173,27 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
             finish = p.position_in_segment(vertex[i], at_end, end);
         }
         bool cleared = false;
-        if (use_clearance && !certified && wait == 0) {
+        const auto start_certificate = [&]() {
             clearance.start(ids_a, a0, ids_b, b0, mesh_a == mesh_b, contact_distance, settings_.tolerance);
             certified = fresh = true;
-        }
+        };
+        if (use_clearance && !certified && wait == 0) start_certificate();
         if (certified) {
             cleared = clearance.holds_at(a1, b1);
+            if (!cleared && !fresh) {
+                // This certificate ran out after clearing steps: one started
+                // at this step's begin may clear it (a pair sliding along
+                // another stays apart while drifting far from where it was).
+                start_certificate();
+                cleared = clearance.holds_at(a1, b1);
+            }
             if (cleared) {
                 fresh = false;
                 backoff = 1;
             } else {
                 certified = false;
-                if (fresh) {
-                    wait = backoff;
-                    backoff = std::min(2 * backoff, CLEARANCE_MAX_BACKOFF_STEPS);
-                }
+                wait = backoff;
+                backoff = std::min(2 * backoff, CLEARANCE_MAX_BACKOFF_STEPS);
             }
         } else if (wait > 0) {
             --wait;
@@ -185,9 +201,9 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         if (cleared) {
             ++counters_.cleared_steps;
         } else if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1)) {
-            return {end, true};
+            return finish({end, true});
         }
-        if (end >= until || ++steps == max_steps) return {end, false};
+        if (end >= until) return finish({end, false});
         t = end;
     }
 }

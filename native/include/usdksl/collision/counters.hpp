@@ -8,13 +8,19 @@ namespace usdksl {
 
 /// @brief Counts of work done by one check.
 struct Counters {
+    /// @brief KSL: tree refits (every used mesh's tree, once per step between breakpoints).
     int64_t kinetic_tree_events = 0;
+    /// @brief KSL: front entries whose boxes started to meet (expanded, or leaves turned overlapping).
     int64_t bv_overlap_events = 0;
+    /// @brief KSL: fathers that stayed apart for a step and replaced their children in the front.
     int64_t fathers_do_not_overlap_events = 0;
+    /// @brief KSL: overlapping leaf pairs that stayed apart for a step and left the narrow phase.
     int64_t leaves_do_not_overlap_events = 0;
+    /// @brief KSL: narrow-phase runs over one leaf pair's flightplan steps.
     int64_t polygons_collide_events = 0;
+    /// @brief KSL: steps between consecutive breakpoints the front was brought up to date on.
     int64_t bv_change_events = 0;
-    /// @brief Box-box overlap tests (swept, discrete) or overlap-time computations (KSL).
+    /// @brief Box-box overlap tests (swept, discrete) or moving-box meeting tests (KSL).
     int64_t bv_tests = 0;
     /// @brief Triangle-pair narrow-phase calls (continuous or static).
     int64_t narrow_phase_tests = 0;

@@ -8,6 +8,8 @@
 #include "usdksl/types.hpp"
 
 #include <array>
+#include <cstdint>
+#include <limits>
 
 namespace usdksl {
 
@@ -55,6 +57,19 @@ private:
     double size_fraction_ = 0.0;
     double magnitude_ = 0.0;              // largest absolute coordinate seen
     double drift_ = 0.0;
+};
+
+/// @brief A clearance certificate with its back-off, carried over consecutive
+///        calls that test one pair's consecutive steps.
+struct ClearanceRun {
+    PairClearance clearance;
+    /// @brief Time code (a step boundary) up to which this run followed the
+    ///        pair; it may only go on from there (-inf: not started).
+    double valid_at = -std::numeric_limits<double>::infinity();
+    bool certified = false;  ///< A certificate is running.
+    bool fresh = false;      ///< It has not cleared a step yet.
+    int32_t wait = 0;        ///< Steps to go before the next certificate.
+    int32_t backoff = 1;     ///< Steps to wait after the next one fails at once.
 };
 
 } // namespace usdksl

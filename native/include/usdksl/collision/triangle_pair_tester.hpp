@@ -6,6 +6,7 @@
 #include "usdksl/ccd/ccd_settings.hpp"
 #include "usdksl/collision/contact.hpp"
 #include "usdksl/collision/counters.hpp"
+#include "usdksl/collision/pair_clearance.hpp"
 #include "usdksl/collision/scene.hpp"
 
 #include <cstdint>
@@ -57,10 +58,12 @@ public:
     ///        tests step_containing(...) (bit-identical answers), but the
     ///        flightplan segments are walked with a local cursor. With
     ///        `use_clearance`, steps that a PairClearance certificate proves
-    ///        out of reach are skipped (counted as cleared_steps). Stops
-    ///        after `max_steps` steps when that is positive.
+    ///        out of reach are skipped (counted as cleared_steps). A `carried`
+    ///        run whose valid_at equals `from` goes on from where the last
+    ///        call left it; any other starts afresh; either way it is left
+    ///        ready for a call from the returned tested_until.
     StepRun test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from, double until,
-                       bool use_clearance, int64_t max_steps = 0);
+                       bool use_clearance, ClearanceRun* carried = nullptr);
 
     /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);

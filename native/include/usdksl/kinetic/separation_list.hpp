@@ -1,14 +1,13 @@
 #pragma once
 /// @file separation_list.hpp
 /// @brief Kinetic separation lists (paper section 5): the BVTT front of every
-///        checked mesh pair (or mesh against itself), kept valid by events.
+///        checked mesh pair (or mesh against itself), kept valid step by step.
 
 #include "usdksl/collision/check.hpp"
+#include "usdksl/collision/pair_clearance.hpp"
 #include "usdksl/collision/scene.hpp"
 #include "usdksl/collision/triangle_pair_tester.hpp"
-#include "usdksl/flightplan/crossing.hpp"
-#include "usdksl/kinetic/event_queue.hpp"
-#include "usdksl/kinetic/kinetic_aabb_tree.hpp"
+#include "usdksl/kinetic/step_box_tree.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -18,18 +17,34 @@
 
 namespace usdksl {
 
-/// @brief All separation lists of one check, sharing one kinetic AABB tree per
-///        mesh and one event queue. Each list entry is a BVTT node: a pair of
-///        tree nodes that does not overlap (with the father it hangs from), or
-///        an overlapping pair of leaves whose triangles the narrow phase tests
-///        on every flightplan step while they keep overlapping.
+/// @brief How far (fraction of the smaller box's extent) two boxes must stay
+///        apart over a whole step before a father pair replaces its children
+///        in the front: boxes that touch and part every few frames would
+///        otherwise expand and collapse the front each time.
+constexpr double FRONT_HYSTERESIS = 1.0;
+
+/// @brief How far (fraction of the smaller triangle's box extent) two leaf
+///        boxes must stay apart over a whole step before their triangle pair
+///        stops being covered by the narrow phase.
+constexpr double LEAF_HYSTERESIS = 0.25;
+
+/// @brief All separation lists of one check, sharing one tree per mesh. Each
+///        list entry is a BVTT node: a pair of tree nodes whose boxes do not
+///        meet (with the father it hangs from), or an overlapping pair of
+///        leaves whose triangles the narrow phase tests on every flightplan
+///        step while they keep overlapping. The front changes only where
+///        flightplans bend, so it is brought up to date once per step between
+///        consecutive breakpoints of the scene, all of that step's events
+///        together: on a per-frame simulation cache every frame is a
+///        breakpoint, and events one by one would cost a heap operation each;
+///        on merged keyframes a step spans many frames.
 class KineticSeparationLists {
 public:
     KineticSeparationLists(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
                            TrianglePairTester& tester, Counters& counters, double t_begin, double t_end,
                            double thickness);
 
-    /// @brief Processes every event up to t_end (time codes).
+    /// @brief Processes every step up to t_end (time codes).
     void run(const ProgressCallback& progress);
 
 private:
@@ -46,14 +61,11 @@ private:
         bool overlapping_leaf = false;
         bool inert = false;          // leaf pair whose triangle pair is settled
         bool permanent = false;      // self leaf pair sharing a vertex: its boxes always overlap
-        double tested_until = -1e300;  // end of the last flightplan step the narrow phase covered
-        int32_t slot_a = -1, slot_b = -1;  // positions in the node entry lists
-        uint8_t stale_gaps = 0;      // bit g: gap g's vertices changed since gap_rise[g] was computed
-        double gap_rise[6] = {};     // non-overlapping entry: no gap g rises to 0 before gap_rise[g]
-        double father_separation = 0.0;  // non-overlapping entry: its father does not separate before this
         bool alive = false;
+        int64_t step = -1;           // step in which the entry was created or last brought up to date
+        double tested_until = -1e300;  // end of the last flightplan step the narrow phase covered
+        int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1
     };
-    struct NodeRef { int32_t entry; int32_t side; };  // side 0: node is entry.a, 1: entry.b
     struct NodePair { int32_t a, b; };
 
     // BVTT structure
@@ -62,61 +74,48 @@ private:
     int children_of(const List& list, int32_t a, int32_t b, NodePair out[4]) const;
     bool both_leaves(const List& list, int32_t a, int32_t b) const;
 
-    // Kinetic geometry
+    // Geometry of the current step
     /// Scene units two boxes grow by before they count as overlapping: the
-    /// pair's contact distance plus each box's own slack and padding.
+    /// pair's contact distance plus each box's rounding margin.
     double margin_of(const List& list, int32_t a, int32_t b) const;
-    AxisGap box_gap(const List& list, int32_t a, int32_t b, int gap) const;
-    void box_gaps(const List& list, int32_t a, int32_t b, AxisGap gaps[6]) const;
-    /// Which of an entry's six gaps the box side `slot` of its node on `side` (0: a, 1: b) enters.
-    static int gap_of_side(int side, int slot);
-    /// Time code before which gap `gap` of (a, b) does not rise to 0 (never late).
-    double gap_rise(const List& list, int32_t a, int32_t b, int gap, double t) const;
-    bool overlaps(const List& list, int32_t a, int32_t b, double t);
-    double separation_time(const List& list, int32_t a, int32_t b, double t);
-    /// Fills entry.gap_rise and returns their maximum (+inf when a gap never rises).
-    double overlap_time(Entry& entry, double t);
+    /// True when the boxes of (a, b) meet at some time of the current step.
+    bool meet(const List& list, int32_t a, int32_t b);
+    /// True when the boxes of (a, b) stay apart by more than `fraction` of
+    /// the smaller one's extent for the whole current step.
+    bool apart(const List& list, int32_t a, int32_t b, double fraction) const;
 
     // Front maintenance
-    int32_t create_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, bool overlapping_leaf, double t);
+    int32_t create_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, bool overlapping_leaf);
     void remove_entry(int32_t id);
-    void expand(int32_t list, int32_t a, int32_t b, double t);
+    void expand(int32_t list, int32_t a, int32_t b);
     void remove_descendants(int32_t list, int32_t a, int32_t b);
-    /// Runs the narrow phase on every step of a leaf pair from the one
-    /// containing time code t (or after what is already tested) until one ends
-    /// at or after `until`, or after `max_steps` steps when that is positive.
-    void cover(Entry& entry, double t, double until, int64_t max_steps);
+    /// Brings one entry created in an earlier step up to the current step.
+    void update(int32_t id);
+    /// Runs the narrow phase on the leaf pair's flightplan steps that the
+    /// current step reaches and were not tested yet (from the start of the
+    /// shot to its end for leaves that share a vertex).
+    void cover(Entry& entry);
+    /// The clearance certificate an overlapping leaf pair carries from one
+    /// step to the next (allocated on first use).
+    ClearanceRun& clearance_run(Entry& entry);
+    void release_clearance_run(Entry& entry);
     bool share_vertex(int32_t mesh, int32_t tri_a, int32_t tri_b) const;
     /// Key of a leaf pair of `list` in leaf_tested_until_.
     uint64_t tester_key(const List& list, int32_t a, int32_t b) const;
-    void schedule(int32_t id, double t);
-    void enqueue(int32_t id, double when, double t);
-    /// A non-overlapping entry's event came early: recomputes the bounds it reached.
-    void refresh(int32_t id, double t);
-    /// After box changes: recomputes only the entry's stale gaps.
-    void reschedule_stale_gaps(int32_t id, double t);
-
-    // Events
-    void process_tree_event(int64_t handle, double t);
-    void process_entry_event(int32_t id, double t);
     /// @brief Counts one unit of work; calls progress every kProgressEveryWork units.
-    void worked(double t);
-    void node_changed(int32_t mesh, int32_t node, int slot);
-
-    std::vector<NodeRef>& node_entries(int32_t mesh, int32_t node) { return node_entries_[mesh][node]; }
+    void worked();
 
     const Scene& scene_;
     TrianglePairTester& tester_;
     Counters& counters_;
-    double t_begin_, t_end_, thickness_;
+    double t_begin_, t_end_;
+    double step_begin_ = 0.0, step_end_ = 0.0;  // current step (time codes)
+    int64_t step_index_ = 0;
     bool initializing_ = false;
     const ProgressCallback* progress_ = nullptr;  // set while run() runs
-    int64_t work_ = 0;                            // entries scheduled and narrow-phase runs
+    int64_t work_ = 0;                            // entries created and narrow-phase runs
 
-    std::vector<std::unique_ptr<KineticAabbTree>> trees_;  // per mesh, null when unused
-    std::vector<int64_t> tree_handle_base_;                // per mesh
-    std::vector<std::vector<std::vector<NodeRef>>> node_entries_;
-    int64_t entry_handle_base_ = 0;
+    std::vector<std::unique_ptr<StepBoxTree>> trees_;  // per mesh, null when unused
     std::vector<List> lists_;
     std::vector<Entry> entries_;
     std::vector<int32_t> free_entries_;
@@ -124,8 +123,8 @@ private:
     /// tested_until of leaf pairs whose entry was removed from the front, so a
     /// pair that returns does not run its narrow phase on the same steps again.
     std::unordered_map<uint64_t, double> leaf_tested_until_;
-    EventQueue queue_;
-    std::vector<int32_t> pending_reschedule_;
+    std::vector<ClearanceRun> clearance_runs_;
+    std::vector<int32_t> free_clearance_runs_;
 };
 
 } // namespace usdksl

@@ -1,0 +1,68 @@
+#pragma once
+/// @file step_box_tree.hpp
+/// @brief An AABB tree whose boxes move linearly across one step between
+///        consecutive breakpoints of the scene, so the separation list can ask
+///        whether two boxes meet at any time of the step.
+
+#include "usdksl/broad_phase/bvh_topology.hpp"
+#include "usdksl/flightplan/flightplans.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace usdksl {
+
+/// @brief Rounding allowance per tree level, relative to the largest absolute
+///        coordinate of the vertices under a node: interpolating positions and
+///        box sides inside a step rounds by a few ulps.
+constexpr double STEP_BOX_ROUNDING_PER_LEVEL = 1e-12;
+
+/// @brief A box at both ends of a step (scene units). Between the ends each
+///        side moves linearly (`lo` and `hi` interpolated with the same
+///        fraction of the step), which encloses the node's vertices
+///        throughout: they move linearly inside a step, and the largest (or
+///        smallest) of linear functions lies below (above) its chord.
+struct StepBox {
+    double lo[2][3];  ///< [0]: at the step's begin, [1]: at its end.
+    double hi[2][3];
+};
+
+/// @brief A bounding volume hierarchy over one mesh's triangles (topology built
+///        on the centroids at one time code) whose boxes are refitted to each
+///        step.
+class StepBoxTree {
+public:
+    StepBoxTree(const Flightplans& plans, const std::vector<Triangle>& triangles, double t_build);
+
+    const BvhTopology& topology() const { return topology_; }
+
+    /// @brief Fits every box to the step [t0, t1] (time codes), on which
+    ///        every vertex of the mesh must move linearly (no breakpoint of
+    ///        any vertex strictly inside). Steps must come in time order.
+    void fit(double t0, double t1);
+
+    const StepBox& box(int32_t node) const { return boxes_[node]; }
+
+    /// @brief Scene units by which the vertices under `node` may stick out of
+    ///        its box through rounding; local to those vertices' magnitudes.
+    double box_margin(int32_t node) const { return box_margin_[node]; }
+
+    /// @brief Largest side of the node's box at the step's begin (scene units).
+    double extent(int32_t node) const { return extent_[node]; }
+
+private:
+    const Flightplans* plans_;
+    const std::vector<Triangle>* triangles_;
+    BvhTopology topology_;
+    std::vector<StepBox> boxes_;
+    std::vector<double> box_margin_;
+    std::vector<double> extent_;
+    /// Vertex positions (x, y, z per vertex) at the begin and end of the
+    /// step; the end of one step is the begin of the next.
+    std::vector<double> begin_points_, end_points_;
+    double fitted_end_;
+    bool still_;  // no vertex ever moves: the first fit holds for every step
+    bool fitted_ = false;
+};
+
+} // namespace usdksl

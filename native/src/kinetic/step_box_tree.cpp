@@ -1,0 +1,94 @@
+#include "usdksl/kinetic/step_box_tree.hpp"
+
+#include "usdksl/constants.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace usdksl {
+
+StepBoxTree::StepBoxTree(const Flightplans& plans, const std::vector<Triangle>& triangles, double t_build)
+    : plans_(&plans), triangles_(&triangles), fitted_end_(-std::numeric_limits<double>::infinity()) {
+    std::vector<Vec3> centroids(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i) {
+        const Triangle& tri = triangles[i];
+        centroids[i] = (plans.position(tri[0], t_build) + plans.position(tri[1], t_build) +
+                        plans.position(tri[2], t_build)) / 3.0;
+    }
+    topology_ = build_bvh_topology(centroids);
+    const int32_t node_count = topology_.node_count();
+    boxes_.resize(static_cast<size_t>(node_count));
+    extent_.assign(static_cast<size_t>(node_count), 0.0);
+    std::vector<double> magnitude(static_cast<size_t>(node_count), 0.0);
+    std::vector<int32_t> height(static_cast<size_t>(node_count), 0);
+    // Children come after their parent, so a reverse sweep is bottom-up.
+    for (int32_t node = node_count - 1; node >= 0; --node) {
+        if (topology_.is_leaf(node)) {
+            for (int32_t v : triangles[topology_.triangle[node]]) {
+                magnitude[node] = std::max(magnitude[node], plans.vertex_magnitude(v));
+            }
+        } else {
+            const int32_t l = topology_.left[node], r = topology_.right[node];
+            magnitude[node] = std::max(magnitude[l], magnitude[r]);
+            height[node] = 1 + std::max(height[l], height[r]);
+        }
+    }
+    box_margin_.resize(static_cast<size_t>(node_count));
+    for (int32_t node = 0; node < node_count; ++node) {
+        box_margin_[node] = magnitude[node] * (STEP_BOX_ROUNDING_PER_LEVEL * (height[node] + 2) + BOX_PADDING);
+    }
+    still_ = true;
+    for (int32_t v = 0; v < plans.vertex_count() && still_; ++v) still_ = plans.key_end(v) - plans.key_begin(v) <= 1;
+    begin_points_.resize(static_cast<size_t>(plans.vertex_count()) * 3);
+    end_points_.resize(begin_points_.size());
+}
+
+void StepBoxTree::fit(double t0, double t1) {
+    if (still_ && fitted_) return;
+    const Flightplans& plans = *plans_;
+    const int32_t n = plans.vertex_count();
+    if (fitted_ && t0 == fitted_end_) {
+        std::swap(begin_points_, end_points_);
+    } else {
+        for (int32_t v = 0; v < n; ++v) {
+            const int64_t k = plans.segment_of(v, t0);
+            for (int axis = 0; axis < 3; ++axis) begin_points_[3 * v + axis] = plans.coord_in_segment(v, k, axis, t0);
+        }
+    }
+    for (int32_t v = 0; v < n; ++v) {
+        const int64_t k = plans.segment_of(v, t1);
+        for (int axis = 0; axis < 3; ++axis) end_points_[3 * v + axis] = plans.coord_in_segment(v, k, axis, t1);
+    }
+    fitted_ = true;
+    fitted_end_ = t1;
+    const std::vector<Triangle>& triangles = *triangles_;
+    for (int32_t node = topology_.node_count() - 1; node >= 0; --node) {
+        StepBox& box = boxes_[node];
+        if (topology_.is_leaf(node)) {
+            const Triangle& tri = triangles[topology_.triangle[node]];
+            for (int end = 0; end < 2; ++end) {
+                const std::vector<double>& points = end == 0 ? begin_points_ : end_points_;
+                for (int axis = 0; axis < 3; ++axis) {
+                    const double x = points[3 * tri[0] + axis], y = points[3 * tri[1] + axis],
+                                 z = points[3 * tri[2] + axis];
+                    box.lo[end][axis] = std::min({x, y, z});
+                    box.hi[end][axis] = std::max({x, y, z});
+                }
+            }
+        } else {
+            const StepBox& l = boxes_[topology_.left[node]];
+            const StepBox& r = boxes_[topology_.right[node]];
+            for (int end = 0; end < 2; ++end) {
+                for (int axis = 0; axis < 3; ++axis) {
+                    box.lo[end][axis] = std::min(l.lo[end][axis], r.lo[end][axis]);
+                    box.hi[end][axis] = std::max(l.hi[end][axis], r.hi[end][axis]);
+                }
+            }
+        }
+        extent_[node] = std::max({box.hi[0][0] - box.lo[0][0], box.hi[0][1] - box.lo[0][1],
+                                  box.hi[0][2] - box.lo[0][2]});
+    }
+}
+
+} // namespace usdksl

@@ -1,0 +1,105 @@
+/// @file step_box_tree_test.cpp
+/// @brief Throughout every step between consecutive breakpoints, each moving
+///        box of the step box tree encloses the vertices under it (up to its
+///        rounding margin), probed at many times inside each step.
+
+#include "animations.hpp"
+#include "usdksl/kinetic/step_box_tree.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <vector>
+
+using namespace usdksl;
+
+namespace {
+
+/// Vertices under each node (brute force, from the topology).
+std::vector<std::vector<int32_t>> vertices_under(const BvhTopology& topo, const std::vector<Triangle>& tris) {
+    std::vector<std::vector<int32_t>> under(static_cast<size_t>(topo.node_count()));
+    for (int32_t node = topo.node_count() - 1; node >= 0; --node) {
+        if (topo.is_leaf(node)) {
+            const Triangle& t = tris[topo.triangle[node]];
+            under[node] = {t[0], t[1], t[2]};
+        } else {
+            under[node] = under[topo.left[node]];
+            under[node].insert(under[node].end(), under[topo.right[node]].begin(), under[topo.right[node]].end());
+        }
+    }
+    return under;
+}
+
+/// Largest amount (scene units) by which a vertex sticks out of its node's
+/// box at time code t, step fraction s, minus the node's margin: > 0 means a
+/// box too small.
+double worst_overhang(const StepBoxTree& tree, const Flightplans& plans,
+                      const std::vector<std::vector<int32_t>>& under, double t, double s) {
+    double worst = -std::numeric_limits<double>::infinity();
+    for (int32_t node = 0; node < tree.topology().node_count(); ++node) {
+        const StepBox& box = tree.box(node);
+        for (int axis = 0; axis < 3; ++axis) {
+            const double lo = box.lo[0][axis] + s * (box.lo[1][axis] - box.lo[0][axis]);
+            const double hi = box.hi[0][axis] + s * (box.hi[1][axis] - box.hi[0][axis]);
+            for (int32_t v : under[node]) {
+                const double x = plans.coord(v, axis, t);
+                worst = std::max({worst, lo - x - tree.box_margin(node), x - hi - tree.box_margin(node)});
+            }
+        }
+    }
+    return worst;
+}
+
+/// Fits the tree to every step between the mesh's breakpoints, probes it at
+/// many times inside each, and returns the number of steps.
+int check_every_step(const MeshAnimation& mesh, bool merge) {
+    const Flightplans plans(mesh, merge);
+    StepBoxTree tree(plans, mesh.triangles, mesh.times.front());
+    const auto under = vertices_under(tree.topology(), mesh.triangles);
+    std::set<double> breakpoints;
+    for (int32_t v = 0; v < plans.vertex_count(); ++v) {
+        for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) breakpoints.insert(plans.key_time(k));
+    }
+    const std::vector<double> times(breakpoints.begin(), breakpoints.end());
+    constexpr int probes = 13;  // not commensurate with anything in the motion
+    int steps = 0;
+    for (size_t k = 0; k + 1 < times.size(); ++k) {
+        tree.fit(times[k], times[k + 1]);
+        ++steps;
+        for (int p = 0; p <= probes; ++p) {
+            const double s = static_cast<double>(p) / probes;
+            const double t = times[k] + s * (times[k + 1] - times[k]);
+            EXPECT_LE(worst_overhang(tree, plans, under, t, s), 0.0) << "a box is too small at t = " << t;
+        }
+    }
+    return steps;
+}
+
+} // namespace
+
+TEST(StepBoxTree, BoxesEncloseTheirVerticesThroughoutEveryStepOfACurvedCloth) {
+    EXPECT_EQ(check_every_step(animations::folding_cloth(5, 16), false), 15);
+}
+
+TEST(StepBoxTree, BoxesEncloseTheirVerticesOnStaggeredMergedBreakpoints) {
+    // Merged random walks keep different breakpoints per vertex: a step ends
+    // at every breakpoint of any vertex, and vertices that merged their
+    // samples move linearly across several steps.
+    const int steps = check_every_step(animations::random_walk(45, 20, 99, 0.0), true);
+    EXPECT_GT(steps, 5);
+    EXPECT_LE(steps, 19);
+}
+
+TEST(StepBoxTree, BoxesOfAMeshThatNeverMovesHoldForEveryStep) {
+    const MeshAnimation mesh = animations::folding_cloth(3, 1);
+    const Flightplans plans(mesh, true);
+    StepBoxTree tree(plans, mesh.triangles, 0.0);
+    const auto under = vertices_under(tree.topology(), mesh.triangles);
+    for (double t0 : {0.0, 3.0, 7.5}) {
+        tree.fit(t0, t0 + 1.0);
+        EXPECT_LE(worst_overhang(tree, plans, under, t0 + 0.5, 0.5), 0.0);
+    }
+}
