@@ -15,6 +15,10 @@ World points of instance i of prototype mesh m at time t (time codes):
 
 so the prototype root's own transform, scales, orientations and positions apply as UsdGeom defines, and
 the transforms of prims between the instancer and a prototype root are ignored (as UsdImaging does).
+A prototype mesh that UsdSkel skins (a SkelRoot inside the prototype, :mod:`usdksl.reading.skinning`)
+is posed first: its skinned points at t go through the skeleton's local-to-world transform and back
+through the inverse of the prototype root's, in place of ``points_m(t) x [transforms ... root]``, and
+its skinning samples are sample times too.
 
 Sample times: the union of the samples of the instancer's per-instance attributes (positions, orientations,
 scales, velocities, angular velocities, accelerations, protoIndices, ids, invisibleIds), the xformOp
@@ -43,7 +47,7 @@ Meshes below a PointInstancer are never loaded on their own (see :func:`usdksl.r
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Dict, List, Optional, Tuple
+from typing import TYPE_CHECKING, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 from pxr import Usd, UsdGeom
@@ -51,6 +55,9 @@ from pxr import Usd, UsdGeom
 from ..errors import UsdkslInputError
 from .meshes import (MeshData, MeshTopology, _MatrixCache, check_finite_points, classified_mesh,
                      read_local_points, read_topology, xform_sample_times)
+
+if TYPE_CHECKING:
+    from .skinning import SkinnedMesh
 
 #: Per-instance attributes whose time samples move or change instances.
 INSTANCE_ATTRIBUTES = ("positions", "orientations", "orientationsf", "scales", "velocities",
@@ -181,17 +188,21 @@ class InstancedMesh:
     instancer: Instancer
     mesh: PrototypeMesh
     wanted: Callable[[str], bool]
+    skinned: Optional["SkinnedMesh"] = None     # UsdSkel poses the prototype mesh
 
     @property
     def path(self) -> str:
         return str(self.mesh.prim.GetPath())
 
     def motion_prims(self) -> List[Usd.Prim]:
-        return [self.instancer.prim, self.mesh.root, self.mesh.prim]
+        prims = [self.instancer.prim, self.mesh.root, self.mesh.prim]
+        return prims + (self.skinned.motion_prims() if self.skinned is not None else [])
 
     def sample_times(self) -> np.ndarray:
         times = self.instancer.sample_times()
         times.update(UsdGeom.Mesh(self.mesh.prim).GetPointsAttr().GetTimeSamples())
+        if self.skinned is not None:
+            times.update(self.skinned.sample_times().tolist())
         probe = self.mesh.prim
         while probe and probe != self.mesh.root.GetParent():
             xformable = UsdGeom.Xformable(probe)
@@ -216,14 +227,18 @@ class InstancedMesh:
         if kept.size == 0:
             return []
         topology = read_topology(self.mesh.prim, times, file)
-        points_attr = UsdGeom.Mesh(self.mesh.prim).GetPointsAttr()
+        if self.skinned is not None and not self.skinned.poseable:
+            self.skinned.load(times, file, matrices)        # raises the skinned mesh's own input error
         points = np.empty((kept.size, times.size, topology.point_count, 3), dtype=np.float64)
         local_constant = True
+        first_local = None
         for k, time in enumerate(times.tolist()):
-            local = read_local_points(file, self.path, points_attr, time, topology)
-            if local_constant and local is not topology.first_local:
-                local_constant = np.array_equal(local, topology.first_local)
-            points[:, k] = self._world(local, time, time, matrices)[kept]
+            local, relative = self._prototype_points(time, topology, file, matrices)
+            if first_local is None:
+                first_local = local
+            elif local_constant and local is not first_local:
+                local_constant = np.array_equal(local, first_local)
+            points[:, k] = self._world(local, relative, time, time, matrices)[kept]
             if not np.isfinite(points[:, k]).all():
                 row = int(np.argmax(~np.isfinite(points[:, k]).all(axis=(1, 2))))
                 check_finite_points(file, names[row], time, points[row, k])
@@ -233,8 +248,16 @@ class InstancedMesh:
                                 instancer=self.instancer.path, instance_index=int(index))
                 for row, (name, index) in enumerate(zip(names, kept.tolist()))]
 
-    def _world(self, local: np.ndarray, time: float, base_time: float, matrices: _MatrixCache) -> np.ndarray:
-        """float64[instances, N, 3]: ``local`` prototype-mesh points of every instance in world space."""
+    def _prototype_points(self, time: float, topology: MeshTopology, file: str, matrices: _MatrixCache):
+        """(points of the prototype mesh at ``time``, float64[N, 3]; the matrix taking them into the frame
+        of the prototype root's children). A skinned prototype mesh is posed by UsdSkel, in the skeleton's
+        space, and taken from there through the skeleton's and the root's local-to-world transforms, so
+        instances carry the skinned pose exactly as ``UsdSkel.BakeSkinning`` would bake it."""
+        points_attr = UsdGeom.Mesh(self.mesh.prim).GetPointsAttr()
+        local = read_local_points(file, self.path, points_attr, time, topology)
+        if self.skinned is not None:
+            posed, to_world = self.skinned.posed(local, time, file, matrices)
+            return posed, to_world @ np.linalg.inv(matrices.local_to_world(self.mesh.root, time))
         cache = matrices.xform_cache(time)
         relative = np.eye(4)
         probe = self.mesh.prim
@@ -244,6 +267,12 @@ class InstancedMesh:
             if resets:
                 break
             probe = probe.GetParent()
+        return local, relative
+
+    def _world(self, local: np.ndarray, relative: np.ndarray, time: float, base_time: float,
+               matrices: _MatrixCache) -> np.ndarray:
+        """float64[instances, N, 3]: prototype-mesh points of every instance in world space (``relative``
+        takes ``local`` into the frame of the prototype root's children)."""
         instance = self.instancer.transforms(time, base_time)
         full = relative[None] @ instance @ matrices.local_to_world(self.instancer.prim, time)[None]
         with np.errstate(invalid="ignore", over="ignore"):   # non-finite results are reported by the caller
@@ -255,7 +284,6 @@ class InstancedMesh:
 
     def _check_velocities(self, times, topology: MeshTopology, kept, points, matrices, file) -> None:
         """Warn when USD's velocity-driven instances leave the straight line between two samples."""
-        points_attr = UsdGeom.Mesh(self.mesh.prim).GetPointsAttr()
         size = np.linalg.norm(np.ptp(points, axis=2), axis=-1).max(axis=1)   # per instance diagonal
         size = np.maximum(size, np.finfo(np.float64).tiny)
         for k in range(times.size - 1):
@@ -263,8 +291,8 @@ class InstancedMesh:
             middle = 0.5 * (start + end)
             straight_middle = 0.5 * (points[:, k] + points[:, k + 1])
             for time, straight in ((middle, straight_middle), (end, points[:, k + 1])):
-                local = read_local_points(file, self.path, points_attr, time, topology)
-                usd = self._world(local, time, start, matrices)[kept]
+                local, relative = self._prototype_points(time, topology, file, matrices)
+                usd = self._world(local, relative, time, start, matrices)[kept]
                 distance = np.linalg.norm(usd - straight, axis=-1).max(axis=1)
                 worst = int(np.argmax(distance / size))
                 if distance[worst] > VELOCITY_DEVIATION_TOLERANCE * size[worst]:
@@ -296,9 +324,13 @@ def _prototype_meshes(instancer: Instancer) -> List[PrototypeMesh]:
 
 
 def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file: str,
-                          warnings: List[str]) -> List[InstancedMesh]:
+                          warnings: List[str], skinned: Optional[Dict[str, "SkinnedMesh"]] = None
+                          ) -> List[InstancedMesh]:
     """One InstancedMesh per (PointInstancer, prototype mesh), in traversal order. PointInstancers below
-    another PointInstancer are prototypes of it (nested instancing, see the module docstring)."""
+    another PointInstancer are prototypes of it (nested instancing, see the module docstring).
+    ``skinned``: {mesh path: SkinnedMesh} of :func:`usdksl.reading.skinning.find_skinned_meshes`; prototype
+    meshes found there are posed by UsdSkel."""
+    skinned = skinned or {}
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     found = []
     prims = iter(Usd.PrimRange.Stage(stage, predicate))
@@ -308,6 +340,7 @@ def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file:
         prims.PruneChildren()
         instancer = Instancer(prim=prim, file=file, warnings=warnings)
         instancer.prototype_meshes = _prototype_meshes(instancer)
-        found.extend(InstancedMesh(instancer=instancer, mesh=mesh, wanted=wanted)
+        found.extend(InstancedMesh(instancer=instancer, mesh=mesh, wanted=wanted,
+                                   skinned=skinned.get(str(mesh.prim.GetPath())))
                      for mesh in instancer.prototype_meshes)
     return found

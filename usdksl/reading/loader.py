@@ -185,7 +185,8 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
         prims = mesh_prims(stage, include)
         skinned = skinning.find_skinned_meshes(stage)
         sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
-        sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings)
+        sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings,
+                                                     skinned)
     except Tf.ErrorException as error:
         raise UsdkslInputError(f"cannot read the stage: {_pxr_error_text(error)}", file=file) from None
     if not sources:
