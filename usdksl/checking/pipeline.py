@@ -104,8 +104,8 @@ class CheckOptions:
     #: Also find each face pair's last contact by checking the shot played backwards
     #: (usdksl.checking.last_contact): a second run of the core, about as long as the first.
     last_contact: bool = False
-    #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
-    #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
+    #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, geometry read past
+    #: unchecked, nothing left to check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
     strict: bool = False
     #: Threads of the core (None: every core this process may use). Does not change any result, so
     #: not in settings().
@@ -261,6 +261,9 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     segments = load_segments(shot, options.time_range, predicate, say, name)
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
+    unchecked = [item for _, segment in segments for item in segment.unchecked]
+    if options.strict and unchecked:
+        raise UsdkslInputError(f"{unchecked[0].reason} (--strict)", file=name, prim=unchecked[0].prim)
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
                          include_guides=options.include_guides, include_invisible=options.include_invisible,
                          rigid=options.rigid)

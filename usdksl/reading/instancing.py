@@ -53,7 +53,7 @@ import numpy as np
 from pxr import Usd, UsdGeom
 
 from ..errors import UsdkslInputError
-from .meshes import (MeshData, MeshTopology, _MatrixCache, check_finite_points, classified_mesh,
+from .meshes import (MeshData, MeshTopology, UncheckedGeometry, _MatrixCache, check_finite_points, classified_mesh,
                      read_local_points, read_topology, xform_sample_times)
 
 if TYPE_CHECKING:
@@ -91,6 +91,7 @@ class Instancer:
     prim: Usd.Prim
     file: str
     warnings: List[str]
+    unchecked: List[UncheckedGeometry] = field(default_factory=list)
     prototype_meshes: List[PrototypeMesh] = field(default_factory=list)
     _transforms: Dict[Tuple[float, float], np.ndarray] = field(default_factory=dict)
     _warned_velocity: bool = False
@@ -312,9 +313,10 @@ def _prototype_meshes(instancer: Instancer) -> List[PrototypeMesh]:
         prims = iter(Usd.PrimRange(root, _PROTOTYPE_PREDICATE))
         for prim in prims:
             if prim.IsA(UsdGeom.PointInstancer):
-                instancer.warnings.append(
-                    f"{instancer.file}: {prim.GetPath()}: a PointInstancer inside prototype {index} of "
-                    f"{instancer.path}: nested instancing is not supported; its instances are not checked")
+                reason = (f"a PointInstancer inside prototype {index} of {instancer.path}: nested instancing is "
+                          f"not supported; its instances are not checked")
+                instancer.warnings.append(f"{instancer.file}: {prim.GetPath()}: {reason}")
+                instancer.unchecked.append(UncheckedGeometry(prim=str(prim.GetPath()), reason=reason))
                 prims.PruneChildren()
             elif prim.IsA(UsdGeom.Mesh):
                 below = str(prim.GetPath().MakeRelativePath(root.GetPath()))
@@ -324,13 +326,15 @@ def _prototype_meshes(instancer: Instancer) -> List[PrototypeMesh]:
 
 
 def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file: str,
-                          warnings: List[str], skinned: Optional[Dict[str, "SkinnedMesh"]] = None
-                          ) -> List[InstancedMesh]:
+                          warnings: List[str], skinned: Optional[Dict[str, "SkinnedMesh"]] = None,
+                          unchecked: Optional[List[UncheckedGeometry]] = None) -> List[InstancedMesh]:
     """One InstancedMesh per (PointInstancer, prototype mesh), in traversal order. PointInstancers below
     another PointInstancer are prototypes of it (nested instancing, see the module docstring).
     ``skinned``: {mesh path: SkinnedMesh} of :func:`usdksl.reading.skinning.find_skinned_meshes`; prototype
-    meshes found there are posed by UsdSkel."""
+    meshes found there are posed by UsdSkel. Geometry read past without a check is appended to
+    ``unchecked`` (and to ``warnings``)."""
     skinned = skinned or {}
+    unchecked = unchecked if unchecked is not None else []
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     found = []
     prims = iter(Usd.PrimRange.Stage(stage, predicate))
@@ -338,7 +342,7 @@ def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file:
         if not prim.IsA(UsdGeom.PointInstancer):
             continue
         prims.PruneChildren()
-        instancer = Instancer(prim=prim, file=file, warnings=warnings)
+        instancer = Instancer(prim=prim, file=file, warnings=warnings, unchecked=unchecked)
         instancer.prototype_meshes = _prototype_meshes(instancer)
         found.extend(InstancedMesh(instancer=instancer, mesh=mesh, wanted=wanted,
                                    skinned=skinned.get(str(mesh.prim.GetPath())))

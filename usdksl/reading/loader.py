@@ -36,7 +36,7 @@ from pxr import Tf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError, UsdkslUsageError
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
-from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, _MatrixCache, _window, load_mesh,  # noqa: F401
+from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, _window, load_mesh,  # noqa: F401
                      mesh_sample_times, topology_segments)
 
 IncludeFilter = Union[None, Callable[[str], bool], str, Sequence[str]]
@@ -181,12 +181,13 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
     stage = open_stage(file)
     metadata = stage_metadata(stage)
     warnings: List[str] = []
+    unchecked: List[UncheckedGeometry] = []
     try:
         prims = mesh_prims(stage, include)
         skinned = skinning.find_skinned_meshes(stage)
         sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
         sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings,
-                                                     skinned)
+                                                     skinned, unchecked)
     except Tf.ErrorException as error:
         raise UsdkslInputError(f"cannot read the stage: {_pxr_error_text(error)}", file=file) from None
     if not sources:
@@ -234,7 +235,7 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
         stage, [prim for source in sources for prim in source.motion_prims()], file))
     shot_times = np.unique(np.concatenate([mesh.times for mesh in meshes]))
     return Shot(path=file, meshes=meshes, times=shot_times, metadata=metadata, stage=stage,
-                warnings=warnings)
+                warnings=warnings, unchecked=unchecked)
 
 
 class _AuthoredMesh:

@@ -62,6 +62,15 @@ class MeshData:
         return int(self.times.shape[0])
 
 
+@dataclass(frozen=True)
+class UncheckedGeometry:
+    """Geometry on the stage that usdksl reads past without checking it (a nested PointInstancer's
+    instances): a warning by default, an input error under ``--strict``."""
+
+    prim: str
+    reason: str
+
+
 @dataclass(eq=False)
 class Shot:
     """A loaded stage: its meshes, the union of their sample times and its stage metadata."""
@@ -72,6 +81,7 @@ class Shot:
     metadata: Dict[str, object]
     stage: Usd.Stage = field(repr=False)
     warnings: List[str] = field(default_factory=list)   # one line each: skipped meshes, rescaled layers
+    unchecked: List[UncheckedGeometry] = field(default_factory=list)   # each also has a warning line
 
     def mesh(self, path: str) -> MeshData:
         for mesh in self.meshes:
