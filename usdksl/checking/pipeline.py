@@ -258,7 +258,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
 
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
-    segments = load_segments(shot, options.time_range, predicate, say, name)
+    segments = load_segments(shot, options.time_range, predicate, say, name, options.strict)
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
     unchecked = [item for _, segment in segments for item in segment.unchecked]
@@ -418,10 +418,10 @@ def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[st
 
 
 def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[[str, str], None],
-                  name: Optional[str] = None):
+                  name: Optional[str] = None, strict: bool = False):
     """[(range, Shot)]: the whole shot, or one Shot per constant-topology stretch (usdksl.reading.segments)
-    with a warning per topology change; ``range`` is None when the whole shot is checked without a
-    time range."""
+    with a warning per topology change (an input error under ``strict``: the interval across a change is
+    not checked); ``range`` is None when the whole shot is checked without a time range."""
     try:
         return [(time_range, load_shot(shot, time_range=time_range, include=predicate))]
     except UsdkslInputError as error:
@@ -433,6 +433,10 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
         ranges = split_range(full_range(stage, paths, time_range), gaps)
         if not gaps or not ranges:
             raise
+    if strict:
+        gap_start, gap_end, path = gaps[0]
+        raise UsdkslInputError(f"topology changes between time {gap_start:g} and {gap_end:g}, so that interval "
+                               f"cannot be checked (--strict)", file=name or shot, prim=path, time=gap_start)
     for gap_start, gap_end, path in gaps:
         say(WARNING, f"{name or shot}: {path}: topology changes between time {gap_start:g} and {gap_end:g}; "
                      f"that interval is not checked")
