@@ -90,8 +90,9 @@ def _echo(line: str) -> None:
               help="Also write a JUnit XML report, whatever the exit code: one testsuite per shot, one testcase "
                    "per checked pair; an <error> test case for a shot that cannot be checked.")
 @click.option("--strict", is_flag=True,
-              help="Exit 2 (nothing written) when the cache has a simulation blow-up, geometry or an interval "
-                   "usdksl cannot check (nested PointInstancers, topology changes) or nothing left to check, instead of warning.")
+              help="Exit 2 (nothing written) instead of warning when the cache has a simulation blow-up, "
+                   "geometry or an interval usdksl cannot check (nested PointInstancers, topology "
+                   "changes) or nothing left to check.")
 @click.option("-v", "--verbose", "verbosity", flag_value=VERBOSE,
               help="Also print the plan (what is checked and why the rest is not), one line per mesh pair "
                    "with contacts, and the files written.")
