@@ -54,6 +54,7 @@ from pxr import Usd, UsdGeom
 
 from ..errors import UsdkslInputError
 from .meshes import (MeshData, MeshTopology, UncheckedGeometry, _MatrixCache, check_finite_points, classified_mesh,
+                     rendered, unmeshed_solid_kind,
                      read_local_points, read_topology, xform_sample_times)
 
 if TYPE_CHECKING:
@@ -301,9 +302,14 @@ class InstancedMesh:
                     return
 
 
-def _prototype_meshes(instancer: Instancer) -> List[PrototypeMesh]:
+def _prototype_meshes(instancer: Instancer, wanted: Callable[[str], bool],
+                      unmeshed: List[Tuple[str, str]]) -> List[PrototypeMesh]:
+    """The mesh prims of every prototype; (kind, path) of solid non-meshes in prototypes that have
+    selected instances on a rendered instancer are appended to ``unmeshed``."""
     stage = instancer.prim.GetStage()
     meshes = []
+    proto_indices = np.asarray(instancer.schema.GetProtoIndicesAttr().Get(Usd.TimeCode.EarliestTime()) or [],
+                               dtype=np.int64) if rendered(instancer.prim) else np.zeros(0, np.int64)
     for index, target in enumerate(instancer.schema.GetPrototypesRel().GetForwardedTargets()):
         root = stage.GetPrimAtPath(target)
         if not root:
@@ -318,23 +324,31 @@ def _prototype_meshes(instancer: Instancer) -> List[PrototypeMesh]:
                 instancer.warnings.append(f"{instancer.file}: {prim.GetPath()}: {reason}")
                 instancer.unchecked.append(UncheckedGeometry(prim=str(prim.GetPath()), reason=reason))
                 prims.PruneChildren()
+                continue
+            below = str(prim.GetPath().MakeRelativePath(root.GetPath()))
+            relative = "/" + root.GetName() + ("" if below == "." else "/" + below)
+            if unmeshed_solid_kind(prim) and rendered(prim) and any(
+                    wanted(instance_mesh_path(instancer.path, i, relative))
+                    for i in np.flatnonzero(proto_indices == index).tolist()):
+                unmeshed.append((unmeshed_solid_kind(prim), str(prim.GetPath())))
             elif prim.IsA(UsdGeom.Mesh):
-                below = str(prim.GetPath().MakeRelativePath(root.GetPath()))
-                relative = "/" + root.GetName() + ("" if below == "." else "/" + below)
                 meshes.append(PrototypeMesh(prim=prim, root=root, prototype_index=index, relative_path=relative))
     return meshes
 
 
 def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file: str,
                           warnings: List[str], skinned: Optional[Dict[str, "SkinnedMesh"]] = None,
-                          unchecked: Optional[List[UncheckedGeometry]] = None) -> List[InstancedMesh]:
+                          unchecked: Optional[List[UncheckedGeometry]] = None,
+                          unmeshed: Optional[List[Tuple[str, str]]] = None) -> List[InstancedMesh]:
     """One InstancedMesh per (PointInstancer, prototype mesh), in traversal order. PointInstancers below
     another PointInstancer are prototypes of it (nested instancing, see the module docstring).
     ``skinned``: {mesh path: SkinnedMesh} of :func:`usdksl.reading.skinning.find_skinned_meshes`; prototype
     meshes found there are posed by UsdSkel. Geometry read past without a check is appended to
-    ``unchecked`` (and to ``warnings``)."""
+    ``unchecked`` (and to ``warnings``); solid non-mesh prims in prototypes with instances to ``unmeshed``
+    as (kind, path)."""
     skinned = skinned or {}
     unchecked = unchecked if unchecked is not None else []
+    unmeshed = unmeshed if unmeshed is not None else []
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     found = []
     prims = iter(Usd.PrimRange.Stage(stage, predicate))
@@ -343,7 +357,7 @@ def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file:
             continue
         prims.PruneChildren()
         instancer = Instancer(prim=prim, file=file, warnings=warnings, unchecked=unchecked)
-        instancer.prototype_meshes = _prototype_meshes(instancer)
+        instancer.prototype_meshes = _prototype_meshes(instancer, wanted, unmeshed)
         found.extend(InstancedMesh(instancer=instancer, mesh=mesh, wanted=wanted,
                                    skinned=skinned.get(str(mesh.prim.GetPath())))
                      for mesh in instancer.prototype_meshes)

@@ -36,7 +36,8 @@ from pxr import Tf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError, UsdkslUsageError
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
-from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, _window, load_mesh,  # noqa: F401
+from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
+                     unmeshed_solid_kind, _window, load_mesh,  # noqa: F401
                      mesh_sample_times, topology_segments)
 
 IncludeFilter = Union[None, Callable[[str], bool], str, Sequence[str]]
@@ -150,6 +151,31 @@ def mesh_prims(stage: Usd.Stage, include: IncludeFilter = None) -> List[Usd.Prim
             found.append(prim)
     return found
 
+
+def unmeshed_solids(stage: Usd.Stage, include: IncludeFilter = None,
+                    in_prototypes: Sequence[Tuple[str, str]] = ()) -> List[UncheckedGeometry]:
+    """One UncheckedGeometry per kind of solid non-mesh gprim (:func:`usdksl.reading.meshes.unmeshed_solid_kind`)
+    that is visible, not a guide (left out as for meshes) and not below a PointInstancer, plus
+    ``in_prototypes`` ((kind, path) found in prototypes with instances): geometry a contact could be
+    with that usdksl reads past, with its first prim and how many there are."""
+    wanted = _include_predicate(include)
+    found: Dict[str, List[str]] = {}
+    prims = iter(Usd.PrimRange.Stage(stage, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+    for prim in prims:
+        if prim.IsA(UsdGeom.PointInstancer):
+            prims.PruneChildren()
+            continue
+        kind = unmeshed_solid_kind(prim)
+        if kind and wanted(str(prim.GetPath())) and rendered(prim):
+            found.setdefault(kind, []).append(str(prim.GetPath()))
+    for kind, path in in_prototypes:
+        found.setdefault(kind, []).append(path)
+    return [UncheckedGeometry(prim=paths[0], reason=(
+                f"{len(paths)} UsdGeom.{kind} prim{'s' if len(paths) > 1 else ''} (first {paths[0]}) not "
+                f"checked: usdksl checks UsdGeom.Mesh surfaces only; export colliders as meshes"))
+            for kind, paths in found.items()]
+
+
 # --------------------------------------------------------------------------- whole shot
 
 def _check_time_range(file: str, time_range) -> Optional[Tuple[float, float]]:
@@ -182,12 +208,16 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
     metadata = stage_metadata(stage)
     warnings: List[str] = []
     unchecked: List[UncheckedGeometry] = []
+    in_prototypes: List[Tuple[str, str]] = []     # (kind, path) of solid non-meshes in instanced prototypes
     try:
         prims = mesh_prims(stage, include)
         skinned = skinning.find_skinned_meshes(stage)
         sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
         sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings,
-                                                     skinned, unchecked)
+                                                     skinned, unchecked, in_prototypes)
+        for item in unmeshed_solids(stage, include, in_prototypes):
+            unchecked.append(item)
+            warnings.append(f"{file}: {item.reason}")
     except Tf.ErrorException as error:
         raise UsdkslInputError(f"cannot read the stage: {_pxr_error_text(error)}", file=file) from None
     if not sources:
