@@ -1,4 +1,4 @@
-#include "usdksl/collision/pair_clearance.hpp"
+#include "usdksl/narrow_phase/pair_clearance.hpp"
 
 #include "usdksl/geometry/primitive_distance.hpp"
 
