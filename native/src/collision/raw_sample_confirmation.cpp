@@ -1,4 +1,4 @@
-#include "usdksl/collision/raw_sample_confirmation.hpp"
+#include "raw_sample_confirmation.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
 #include "usdksl/scene/triangle_pair_tester.hpp"

@@ -5,6 +5,7 @@
 #include "usdksl/geometry/exact_predicates.hpp"
 
 #include "expansion_arithmetic.hpp"
+
 #include "usdksl/geometry/rounding.hpp"
 
 #include <cmath>
