@@ -7,7 +7,7 @@
 /// discarded only when the hull, widened by that bound, misses the cube
 /// [-thickness, thickness]^3 on some axis: no root can hide there.
 
-#include "usdksl/ccd/inclusion_root_finder.hpp"
+#include "inclusion_root_finder.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
 

@@ -1,11 +1,12 @@
 #include "usdksl/collision/check.hpp"
 
+#include "raw_sample_confirmation.hpp"
+#include "time_windows.hpp"
+
 #include "usdksl/broad_phase/baselines.hpp"
-#include "usdksl/collision/raw_sample_confirmation.hpp"
-#include "usdksl/collision/scene.hpp"
-#include "usdksl/collision/time_windows.hpp"
-#include "usdksl/collision/triangle_pair_tester.hpp"
 #include "usdksl/kinetic/separation_list.hpp"
+#include "usdksl/scene/scene.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "usdksl/collision/time_windows.hpp"
+#include "time_windows.hpp"
 
 #include "usdksl/broad_phase/sample_times.hpp"
 

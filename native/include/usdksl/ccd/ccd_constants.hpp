@@ -2,10 +2,9 @@
 /// @file ccd_constants.hpp
 /// @brief Floating-point error bounds of the narrow phase, named in one place.
 
-namespace usdksl {
+#include "usdksl/geometry/rounding.hpp"
 
-/// @brief Unit roundoff of IEEE double (2^-53), dimensionless.
-constexpr double DOUBLE_UNIT_ROUNDOFF = 1.1102230246251565e-16;
+namespace usdksl {
 
 /// @brief Bound, in multiples of (unit roundoff x largest absolute input
 ///        coordinate on the same axis), on the rounding error of one corner
@@ -22,11 +21,6 @@ constexpr double CCD_MIN_ABSOLUTE_ERROR = 1e-300;
 /// @brief Relative inflation applied to (thickness + error bound) so the
 ///        rounding of that sum itself cannot reject a true contact.
 constexpr double CCD_BOUND_INFLATION = 1.0 + 8.0 * DOUBLE_UNIT_ROUNDOFF;
-
-/// @brief Relative slack (to the largest absolute coordinate) added to
-///        thickness in the static distance tests, covering the rounding of
-///        closest-point computations; errs toward reporting contact.
-constexpr double STATIC_DISTANCE_RELATIVE_SLACK = 1e-12;
 
 /// @brief Factors applied to a clipped box's cut points (fractions of the
 ///        box along one parameter) before they become parameter values: the

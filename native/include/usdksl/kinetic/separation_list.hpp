@@ -3,12 +3,12 @@
 /// @brief Kinetic separation lists (paper section 5): the BVTT front of every
 ///        checked mesh pair (or mesh against itself), kept valid by events.
 
-#include "usdksl/collision/check.hpp"
-#include "usdksl/collision/scene.hpp"
-#include "usdksl/collision/triangle_pair_tester.hpp"
 #include "usdksl/flightplan/crossing.hpp"
 #include "usdksl/kinetic/event_queue.hpp"
 #include "usdksl/kinetic/kinetic_aabb_tree.hpp"
+#include "usdksl/scene/check_options.hpp"
+#include "usdksl/scene/scene.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <cstdint>
 #include <memory>

@@ -1,6 +1,6 @@
-#include "usdksl/collision/triangle_pair_tester.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
-#include "usdksl/collision/pair_clearance.hpp"
+#include "usdksl/narrow_phase/pair_clearance.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
 #include <algorithm>

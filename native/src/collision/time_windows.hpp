@@ -4,7 +4,7 @@
 ///        independently; runs over windows merge exactly (earliest contact
 ///        per triangle pair), so the answer does not depend on the split.
 
-#include "usdksl/collision/scene.hpp"
+#include "usdksl/scene/scene.hpp"
 
 #include <cstdint>
 #include <utility>

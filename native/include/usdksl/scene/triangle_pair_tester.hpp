@@ -4,9 +4,9 @@
 ///        steps and keeps the first contact of each pair.
 
 #include "usdksl/ccd/ccd_settings.hpp"
-#include "usdksl/collision/contact.hpp"
-#include "usdksl/collision/counters.hpp"
-#include "usdksl/collision/scene.hpp"
+#include "usdksl/scene/contact.hpp"
+#include "usdksl/scene/counters.hpp"
+#include "usdksl/scene/scene.hpp"
 
 #include <cstdint>
 #include <unordered_map>
