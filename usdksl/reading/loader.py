@@ -253,7 +253,8 @@ def shot_sample_times(path: Union[str, os.PathLike], include: IncludeFilter = No
     codes at which it has a sample, empty for a still one. Reads time samples only, never points, so it
     is cheap on any cache. Raises UsdkslInputError like load_shot."""
     file = os.fspath(path)
-    return _source_sample_times(_mesh_sources(open_stage(file), include, file, []), file)
+    stage = open_stage(file)   # held while the sources' prims are read: they die with it
+    return _source_sample_times(_mesh_sources(stage, include, file, []), file)
 
 
 class _AuthoredMesh:
