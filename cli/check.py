@@ -99,7 +99,8 @@ def _echo(line: str) -> None:
 @click.option("-q", "--quiet", "verbosity", flag_value=QUIET, help="Print errors only.")
 @click.option("--normal", "verbosity", flag_value=NORMAL, default=True, hidden=True)
 @click.option("--jobs", type=click.IntRange(min=1), default=None, metavar="N",
-              help="Check the shots on a local Dask cluster of N worker processes.")
+              help="Check the shots on a local Dask cluster of N worker processes; with fewer shots than "
+                   "workers, long shots are split into time windows (same files, byte for byte).")
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
