@@ -1,7 +1,7 @@
 """A batch of shots, and one long shot, on 1, 2 and all Dask workers: wall time, speedup and CPU time, one run.
 
-    python benchmarks/batch_scaling.py [--shots 8] [--faces 2000] [--workers 1 2] [--long-keyframes 11]
-                                       [--repeat 1] [--out DIR] [--markdown]
+    python benchmarks/batch_scaling.py [--shots 8] [--faces 2000] [--workers 1 2] [--long-faces F]
+                                       [--long-keyframes 11] [--repeat 1] [--out DIR] [--markdown]
 
 Generates ``--shots`` small tablecloth shots and one long one (``samples/generate.py``, scratch folder),
 then checks
@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import functools
 import hashlib
+import multiprocessing
 import os
 import resource
 import subprocess
@@ -30,7 +31,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, Optional, Set, Tuple
 
 from usdksl.checking.collision import default_threads
 from usdksl.checking.pipeline import CheckOptions
@@ -43,6 +44,9 @@ GENERATE = HERE.parent / "samples" / "generate.py"
 #: Samples between two keyframes of the generated shots.
 BATCH_SAMPLES_PER_KEYFRAME = 2
 LONG_SAMPLES_PER_KEYFRAME = 10
+#: How long to wait for a closed cluster's worker processes to end before reading their CPU time.
+REAP_TIMEOUT_SECONDS = 30
+REAP_POLL_SECONDS = 0.05
 
 
 def generate(path: Path, faces: int, seed: int, keyframes: int, samples_per_keyframe: int) -> str:
@@ -58,18 +62,38 @@ def digests(folder: Path) -> Dict[str, str]:
 
 
 def cpu_seconds() -> float:
-    """User + system CPU seconds of this process and of its children that have ended (Dask's workers end
-    with their cluster, inside each timed run)."""
+    """User + system CPU seconds of this process and of its children that have ended and been reaped
+    (Dask's workers end with their cluster, inside each timed run: see :func:`reap_workers`)."""
     own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
+def reap_workers(before: Set[int]) -> None:
+    """Wait (untimed) until the worker processes started since ``before`` have ended and been reaped, so
+    that their CPU time is in RUSAGE_CHILDREN; gives up after REAP_TIMEOUT_SECONDS."""
+    import psutil   # a dependency of distributed
+
+    deadline = time.monotonic() + REAP_TIMEOUT_SECONDS
+    while time.monotonic() < deadline:
+        multiprocessing.active_children()   # joins the processes that ended
+        if not {child.pid for child in psutil.Process().children()} - before:
+            return
+        time.sleep(REAP_POLL_SECONDS)
+    print(f"warning: worker processes still running after {REAP_TIMEOUT_SECONDS} s; CPU time is low",
+          file=sys.stderr)
+
+
 def timed_batch(shots: List[str], out: Path, runner) -> Tuple[float, float, List[int]]:
     """(wall seconds, CPU seconds, windows per shot) of one checked batch written to ``out``."""
+    import psutil   # a dependency of distributed
+
     out.mkdir(parents=True, exist_ok=True)
+    children = {child.pid for child in psutil.Process().children()}
     cpu, started = cpu_seconds(), time.perf_counter()
     outcomes = run_batch(make_jobs(shots, str(out)), CheckOptions(), runner=runner)
-    seconds, cpu = time.perf_counter() - started, cpu_seconds() - cpu
+    seconds = time.perf_counter() - started
+    reap_workers(children)
+    cpu = cpu_seconds() - cpu
     assert worst_exit_code(outcomes) in (0, 1), [outcome.line() for outcome in outcomes]
     return seconds, cpu, [outcome.windows for outcome in outcomes]
 
@@ -124,6 +148,7 @@ def main(argv=None) -> int:
     parser.add_argument("--shots", type=int, default=8)
     parser.add_argument("--faces", type=int, default=2000)
     parser.add_argument("--keyframes", type=int, default=6, help="keyframes of each batch shot")
+    parser.add_argument("--long-faces", type=int, default=None, help="faces of the long shot (default: --faces)")
     parser.add_argument("--long-keyframes", type=int, default=11,
                         help=f"keyframes of the long shot ({LONG_SAMPLES_PER_KEYFRAME} samples each); 0: no long shot")
     parser.add_argument("--workers", type=int, nargs="+", default=None,
@@ -143,10 +168,11 @@ def main(argv=None) -> int:
     print_rows(f"{args.shots} tablecloth shots of {args.faces} faces, {args.keyframes} keyframes x "
                f"{BATCH_SAMPLES_PER_KEYFRAME} samples; outputs byte-identical in every run", batch, args.markdown)
     if args.long_keyframes:
-        long_shot = generate(scratch / "shots" / f"long_tablecloth_{args.faces}.usdc", args.faces, 0,
+        faces = args.long_faces or args.faces
+        long_shot = generate(scratch / "shots" / f"long_tablecloth_{faces}_{args.long_keyframes}.usdc", faces, 0,
                              args.long_keyframes, LONG_SAMPLES_PER_KEYFRAME)
         rows = measure([long_shot], scratch, "long", workers, args.repeat)
-        print_rows(f"1 long tablecloth shot of {args.faces} faces, {args.long_keyframes} keyframes x "
+        print_rows(f"1 long tablecloth shot of {faces} faces, {args.long_keyframes} keyframes x "
                    f"{LONG_SAMPLES_PER_KEYFRAME} samples; outputs byte-identical in every run", rows, args.markdown)
     print(f"\nload average after: {load_average()}")
     return 0
