@@ -30,6 +30,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from multiprocessing import resource_tracker
 from pathlib import Path
 from typing import Dict, List, Optional, Set, Tuple
 
@@ -159,6 +160,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     workers = sorted(set(args.workers or [1, 2, default_workers()]))
+    # multiprocessing's resource tracker outlives every cluster: started now, it is not taken for a worker
+    resource_tracker.ensure_running()
     scratch = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="usdksl-batch-"))
     (scratch / "shots").mkdir(parents=True, exist_ok=True)
     shots = [generate(scratch / "shots" / f"tablecloth_{args.faces}_seed{seed}.usdc", args.faces, seed, args.keyframes,

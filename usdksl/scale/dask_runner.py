@@ -83,7 +83,7 @@ def run_on_dask(jobs: Sequence[ShotJob], options: CheckOptions, workers: Optiona
         local_workers = None if scheduler else (workers or default_workers())
         options = worker_options(options, local_workers)
         count = windows_per_shot(len(jobs), local_workers or worker_slots(client))
-        outcomes, window_futures = [], []
+        shot_futures, window_futures = [], []
         submitted = {}
         for index, job in enumerate(jobs):
             windows = shot_windows(job, options, count)
@@ -99,10 +99,10 @@ def run_on_dask(jobs: Sequence[ShotJob], options: CheckOptions, workers: Optiona
             else:
                 future = client.submit(run_job, job, options, key=f"usdksl-check-{index}-{job.name}", pure=False,
                                        retries=TASK_RETRIES)
-            outcomes.append(future)
+            shot_futures.append(future)
             submitted[future.key] = (time.monotonic(), bool(windows))
         try:
-            for future in as_completed(outcomes + window_futures):
+            for future in as_completed(shot_futures + window_futures):
                 if future.key not in submitted:          # a window: one piece more
                     if progress is not None:
                         progress.advance()
@@ -119,5 +119,5 @@ def run_on_dask(jobs: Sequence[ShotJob], options: CheckOptions, workers: Optiona
             # On a scheduler of its own the tasks go on running until they end; their results are
             # not wanted (a local cluster's workers are killed by local_cluster_client).
             if scheduler:
-                client.cancel(outcomes + window_futures)
+                client.cancel(shot_futures + window_futures)
             raise
