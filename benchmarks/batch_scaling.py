@@ -2,6 +2,7 @@
 
     python benchmarks/batch_scaling.py [--shots 8] [--faces 2000] [--workers 1 2] [--long-faces F]
                                        [--long-keyframes 11] [--repeat 1] [--out DIR] [--markdown]
+                                       [--write benchmarks/results]
 
 Generates ``--shots`` small tablecloth shots and one long one (``samples/generate.py``, scratch folder),
 then checks
@@ -15,7 +16,8 @@ Every run must write byte-identical files (checked). Printed per run: wall secon
 worker and against the in-process run, and CPU seconds (this process and its worker processes, user +
 system) with CPU / wall, the cores kept busy. Worker counts default to 1, 2 and all cores. The machine's
 load average is printed before and after: the machines are shared and have 2 cores, so read the ratios
-of one run, not the seconds. ``--markdown`` prints the tables for benchmarks/results/REPORT.md.
+of one run, not the seconds. ``--markdown`` prints markdown tables; ``--write benchmarks/results`` also
+writes them with the command to batch_scaling.md, which benchmarks/report.py embeds in REPORT.md.
 """
 
 from __future__ import annotations
@@ -48,6 +50,8 @@ LONG_SAMPLES_PER_KEYFRAME = 10
 #: How long to wait for a closed cluster's worker processes to end before reading their CPU time.
 REAP_TIMEOUT_SECONDS = 30
 REAP_POLL_SECONDS = 0.05
+#: The markdown this benchmark writes for benchmarks/results/REPORT.md.
+REPORT_MD = "batch_scaling.md"
 
 
 def generate(path: Path, faces: int, seed: int, keyframes: int, samples_per_keyframe: int) -> str:
@@ -126,18 +130,27 @@ def measure(shots: List[str], scratch: Path, label: str, workers: List[int], rep
             for name, count, seconds, cpu, windows in measured]
 
 
-def print_rows(title: str, rows: List[tuple], markdown: bool) -> None:
-    print(f"\n{title}")
+def table_lines(rows: List[tuple], markdown: bool) -> List[str]:
+    lines = []
     if markdown:
-        print("| runner | windows per shot | wall s | speedup vs 1 worker | speedup vs in-process | CPU s | CPU / wall |")
-        print("|---|---|---|---|---|---|---|")
+        lines += ["| runner | windows per shot | wall s | speedup vs 1 worker | speedup vs in-process | CPU s | "
+                  "CPU / wall |", "|---|---|---|---|---|---|---|"]
     for name, windows, seconds, vs_one, vs_here, cpu, busy in rows:
         one = "-" if vs_one is None else f"{vs_one:.2f}x"
         if markdown:
-            print(f"| {name} | {windows} | {seconds:.1f} | {one} | {vs_here:.2f}x | {cpu:.1f} | {busy:.2f} |")
+            lines.append(f"| {name} | {windows} | {seconds:.1f} | {one} | {vs_here:.2f}x | {cpu:.1f} | {busy:.2f} |")
         else:
-            print(f"{name:>20}: windows {windows:>3}  {seconds:7.1f} s wall  speedup {one:>6} vs 1 worker, "
-                  f"{vs_here:.2f}x vs in-process  CPU {cpu:7.1f} s ({busy:.2f} cores busy)")
+            lines.append(f"{name:>20}: windows {windows:>3}  {seconds:7.1f} s wall  speedup {one:>6} vs 1 worker, "
+                         f"{vs_here:.2f}x vs in-process  CPU {cpu:7.1f} s ({busy:.2f} cores busy)")
+    return lines
+
+
+def revision() -> str:
+    try:
+        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=HERE, capture_output=True, text=True,
+                              check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
 
 
 def load_average() -> str:
@@ -157,6 +170,9 @@ def main(argv=None) -> int:
     parser.add_argument("--repeat", type=int, default=1, help="runs of each, the best wall time kept")
     parser.add_argument("--out", default=None, help="scratch folder (default: a temporary one)")
     parser.add_argument("--markdown", action="store_true")
+    parser.add_argument("--write", default=None, metavar="DIR",
+                        help=f"also write DIR/{REPORT_MD} (markdown), which benchmarks/report.py embeds in REPORT.md "
+                             "(DIR: benchmarks/results)")
     args = parser.parse_args(argv)
 
     workers = sorted(set(args.workers or [1, 2, default_workers()]))
@@ -166,18 +182,35 @@ def main(argv=None) -> int:
     (scratch / "shots").mkdir(parents=True, exist_ok=True)
     shots = [generate(scratch / "shots" / f"tablecloth_{args.faces}_seed{seed}.usdc", args.faces, seed, args.keyframes,
                       BATCH_SAMPLES_PER_KEYFRAME) for seed in range(args.shots)]
-    print(f"{default_threads()} cores, all = {default_workers()} workers; load average before: {load_average()}")
+    before = load_average()
+    print(f"{default_threads()} cores, all = {default_workers()} workers; load average before: {before}")
+    markdown = args.markdown or args.write is not None
+    sections = []
     batch = measure(shots, scratch, "batch", workers, args.repeat)
-    print_rows(f"{args.shots} tablecloth shots of {args.faces} faces, {args.keyframes} keyframes x "
-               f"{BATCH_SAMPLES_PER_KEYFRAME} samples; outputs byte-identical in every run", batch, args.markdown)
+    sections.append((f"{args.shots} tablecloth shots of {args.faces} faces, {args.keyframes} keyframes x "
+                     f"{BATCH_SAMPLES_PER_KEYFRAME} samples", batch))
     if args.long_keyframes:
         faces = args.long_faces or args.faces
         long_shot = generate(scratch / "shots" / f"long_tablecloth_{faces}_{args.long_keyframes}.usdc", faces, 0,
                              args.long_keyframes, LONG_SAMPLES_PER_KEYFRAME)
         rows = measure([long_shot], scratch, "long", workers, args.repeat)
-        print_rows(f"1 long tablecloth shot of {faces} faces, {args.long_keyframes} keyframes x "
-                   f"{LONG_SAMPLES_PER_KEYFRAME} samples; outputs byte-identical in every run", rows, args.markdown)
-    print(f"\nload average after: {load_average()}")
+        sections.append((f"1 long tablecloth shot of {faces} faces, {args.long_keyframes} keyframes x "
+                         f"{LONG_SAMPLES_PER_KEYFRAME} samples", rows))
+    after = load_average()
+    lines = []
+    for title, rows in sections:
+        lines += ["", f"{title}; outputs byte-identical in every run:", ""] + table_lines(rows, markdown)
+    lines += ["", f"Load average (1, 5, 15 min) before: {before}; after: {after}."]
+    print("\n".join(lines))
+    if args.write is not None:
+        command = "python benchmarks/batch_scaling.py " + " ".join(argv if argv is not None else sys.argv[1:])
+        page = [f"`{command}` (source: {revision()}), {default_threads()} cores, shared with other jobs.",
+                "Wall seconds include starting the Dask cluster (what `usdksl check --jobs N` pays); CPU seconds "
+                "are this process and its worker processes, user + system; CPU / wall is the cores kept busy. "
+                "The in-process run checks one shot after the other with the core on every core (`--threads`)."]
+        Path(args.write).mkdir(parents=True, exist_ok=True)
+        (Path(args.write) / REPORT_MD).write_text("\n".join(page + lines) + "\n")
+        print(f"wrote {Path(args.write) / REPORT_MD}")
     return 0
 
 
