@@ -93,6 +93,19 @@ def test_windows_merged_equal_one_check_byte_for_byte(fold, tmp_path, options):
     assert [m for m in merged.messages if m.level != "info"] == [m for m in whole.messages if m.level != "info"]
 
 
+def test_windows_merged_against_a_baseline_equal_one_check_against_it(fold, tmp_path):
+    reference = run_job(_job(fold, tmp_path / "reference"), CheckOptions())
+    lines = reference.result.files[tmp_path / "reference" / "fold.contacts.csv"].splitlines(keepends=True)
+    baseline = tmp_path / "baseline.csv"
+    baseline.write_text("".join(lines[:1] + lines[2:]))                  # the first face pair becomes new
+    (job,) = make_jobs([fold], str(tmp_path), baseline=str(baseline))
+    options = CheckOptions()
+    whole = run_job(job, options)
+    merged = merge_windows(job, options, *[check_window(job, options, w) for w in shot_windows(job, options, 2)])
+    assert merged.windows == 2 and merged.result.files == whole.result.files
+    assert merged.result.baseline.new_count == whole.result.baseline.new_count == 1
+
+
 def test_a_window_that_failed_makes_the_merge_check_the_shot_whole(fold, tmp_path):
     job = _job(fold, tmp_path)
     options = CheckOptions()
