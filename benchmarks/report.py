@@ -30,6 +30,8 @@ ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "d
 SUMMARY_JSON = "bench_results.json"
 #: Hand-written findings about this page's numbers, embedded under "Investigations" when present.
 NOTES_MD = "notes.md"
+#: benchmarks/batch_scaling.py --write: a batch and a long shot on 1, 2 and all Dask workers.
+BATCH_SCALING_MD = "batch_scaling.md"
 
 
 def _ok(row: Dict, label: str) -> Optional[Dict]:
@@ -492,6 +494,11 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
         with open(tolerance_table) as handle:
             lines += ["From [ccd_tolerance.md](ccd_tolerance.md) (per-query CCD on the shared ground-truth "
                       "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
+    batches = os.path.join(out_dir, BATCH_SCALING_MD)
+    if os.path.exists(batches):
+        with open(batches) as handle:
+            lines += ["## Batches and long shots on Dask (benchmarks/batch_scaling.py)", "",
+                      f"From [{BATCH_SCALING_MD}]({BATCH_SCALING_MD}):", "", handle.read().strip(), ""]
     notes = os.path.join(out_dir, NOTES_MD)
     if os.path.exists(notes):
         with open(notes) as handle:
