@@ -407,10 +407,12 @@ def earliest_contact_sweep(combined: CombinedMesh, settings: PeerSettings = Peer
 
 def pair_keys(prim_a, face_a, prim_b, face_b) -> np.ndarray:
     """Order-free string key per face pair: the smaller (prim, face) first."""
+    if len(np.asarray(face_a)) == 0:
+        return np.zeros(0, str)     # numpy's zfill cannot size an empty array
     side_a = np.char.add(np.char.add(np.asarray(prim_a, str), "#"), np.char.zfill(np.asarray(face_a).astype(str), 10))
     side_b = np.char.add(np.char.add(np.asarray(prim_b, str), "#"), np.char.zfill(np.asarray(face_b).astype(str), 10))
     low, high = np.where(side_a <= side_b, side_a, side_b), np.where(side_a <= side_b, side_b, side_a)
-    return np.char.add(np.char.add(low, "|"), high) if len(low) else np.zeros(0, str)
+    return np.char.add(np.char.add(low, "|"), high)
 
 
 def read_contacts_csv(path: str) -> Tuple[np.ndarray, np.ndarray]:
@@ -476,7 +478,7 @@ def main(argv=None) -> int:
     parser.add_argument("shot")
     parser.add_argument("--mode", choices=sorted(MODES) + ["sweep"], default="default")
     parser.add_argument("--thickness", type=float, default=0.0)
-    parser.add_argument("--csv", default=None, help="write the face pairs as a contacts CSV")
+    parser.add_argument("--csv", default=None, help="write the face pairs (with --compare: the tight reference's) as a contacts CSV")
     parser.add_argument("--compare", default=None, metavar="CONTACTS_CSV",
                         help="compare a usdksl contacts CSV of SHOT against the tight reference (prints JSON)")
     args = parser.parse_args(argv)
@@ -484,6 +486,9 @@ def main(argv=None) -> int:
     if args.compare:
         report, reference = compare_csv_to_tight_reference(args.shot, args.compare, thickness=args.thickness)
         report["reference_seconds"] = round(time.perf_counter() - started, 2)
+        if args.csv:
+            with open(args.csv, "w") as handle:
+                handle.write(contacts_csv_text(reference))
         print(json.dumps(report, indent=2))
         return 0
     combined = load_combined(args.shot)

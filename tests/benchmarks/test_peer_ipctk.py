@@ -172,3 +172,18 @@ def test_earliest_contact_sweep_finds_the_contact_interval(apex_shot):
     assert starts.tolist() == [0]
     assert times[0] == pytest.approx(1.8, abs=TIME_AGREEMENT)
     assert counters["intervals"] == 1
+
+
+def test_comparison_of_a_clean_shot_reports_no_pairs(tmp_path):
+    """A pyramid that stops above the ground: neither side finds a contact, and the comparison says so
+    (the reference's empty answer once crashed the key builder)."""
+    counts, indices, points = pyramid((0.0, 0.5, 0.0))
+    shot = write_shot(tmp_path / "clean.usda", {"/World/Ground": ground_quad(),
+                                                "/World/Pyramid": (counts, indices,
+                                                                   {1.0: points, 2.0: points - [0, 0.4, 0]})})
+    csv = tmp_path / "clean.contacts.csv"
+    csv.write_text("time,prim_a,face_a,prim_b,face_b,kind\n")
+    report, reference = peer_ipctk.compare_csv_to_tight_reference(shot, str(csv))
+    assert len(reference) == 0
+    assert report["reported_pairs"] == report["reference_pairs"] == report["common_pairs"] == 0
+    assert report["reported_without_reference_touch"] == report["reference_pairs_missing_from_report"] == 0
