@@ -4,6 +4,8 @@
     python benchmarks/peer_ipctk.py SHOT.usd --mode tight        # the tight reference
     python benchmarks/peer_ipctk.py SHOT.usd --mode sweep        # earliest contact per sample interval
     python benchmarks/peer_ipctk.py SHOT.usd --compare out/shot.contacts.csv   # usdksl's times vs tight
+    python benchmarks/peer_ipctk.py SHOT.usd --compare out/shot.contacts.csv --csv tight.csv   # ... and keep it
+    python benchmarks/peer_ipctk.py SHOT.usd --compare out/shot.contacts.csv --reference tight.csv  # reuse it
 
 ``all_first_contacts`` answers what ``usdksl check`` answers: the first-contact time of every contacting
 authored face pair over the whole shot. Per sample interval of the shot (the union of all meshes'
@@ -481,8 +483,15 @@ def main(argv=None) -> int:
     parser.add_argument("--csv", default=None, help="write the face pairs (with --compare: the tight reference's) as a contacts CSV")
     parser.add_argument("--compare", default=None, metavar="CONTACTS_CSV",
                         help="compare a usdksl contacts CSV of SHOT against the tight reference (prints JSON)")
+    parser.add_argument("--reference", default=None, metavar="REFERENCE_CSV",
+                        help="with --compare: the tight reference written earlier by --csv, instead of computing it")
     args = parser.parse_args(argv)
     started = time.perf_counter()
+    if args.compare and args.reference:
+        report = compare_times(*read_contacts_csv(args.compare), *read_contacts_csv(args.reference))
+        report["reference"] = args.reference
+        print(json.dumps(report, indent=2))
+        return 0
     if args.compare:
         report, reference = compare_csv_to_tight_reference(args.shot, args.compare, thickness=args.thickness)
         report["reference_seconds"] = round(time.perf_counter() - started, 2)
