@@ -13,7 +13,7 @@
 #include "inclusion_root_finder.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
-#include "usdksl/ccd/expansion_arithmetic.hpp"
+#include "usdksl/geometry/expansion_arithmetic.hpp"
 
 #include <Eigen/Geometry>
 

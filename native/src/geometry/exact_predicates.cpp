@@ -4,7 +4,7 @@
 
 #include "usdksl/geometry/exact_predicates.hpp"
 
-#include "expansion_arithmetic.hpp"
+#include "usdksl/geometry/expansion_arithmetic.hpp"
 
 #include "usdksl/geometry/rounding.hpp"
 
