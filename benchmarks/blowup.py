@@ -18,12 +18,13 @@ import sys
 import time
 from typing import Dict, List, Sequence, Tuple
 
-import numpy as np
-
 import usdksl
 from usdksl.reading.blowups import describe_blowups, shot_blowups
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from blowup_setup import add_blowup_arguments, blowup_target  # noqa: E402
+
 DEFAULT_SHOT = os.path.join(HERE, "..", "samples", "drape.usda")
 #: Target of issue 20: a blown-up copy costs at most this many times the unmodified shot.
 COST_RATIO_TARGET = 3.0
@@ -57,19 +58,13 @@ def timed_check(meshes, pairs):
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("shot", nargs="?", default=DEFAULT_SHOT)
-    parser.add_argument("--vertex", type=int, default=None, help="vertex to blow up (default: the middle one)")
-    parser.add_argument("--time", type=float, default=None, help="sample to blow it up at (default: middle sample)")
-    parser.add_argument("--heights", type=float, nargs="+", default=[1e3, 1e5, 1e7, 1e9])
+    add_blowup_arguments(parser, DEFAULT_SHOT)
     args = parser.parse_args(argv)
 
     shot = usdksl.load_shot(args.shot)
     meshes = shot.meshes
-    target = next(i for i, mesh in enumerate(meshes) if mesh.kind == "deforming")
-    mesh = meshes[target]
-    vertex = mesh.vertex_count // 2 if args.vertex is None else args.vertex
-    sample = (mesh.sample_count // 2 if args.time is None
-              else int(np.argmin(np.abs(mesh.times - args.time))))
+    blowup = blowup_target(meshes, args)
+    target, mesh, vertex, sample = blowup.mesh_index, blowup.mesh, blowup.vertex, blowup.sample
     pairs = default_pairs(meshes)
     blown_faces = set(mesh.triangle_face[(mesh.triangles == vertex).any(axis=1)].tolist())
 
@@ -81,10 +76,8 @@ def main(argv=None) -> int:
     worst = 0.0
     all_equal = True
     for height in args.heights:
-        points = mesh.points.copy()
-        points[sample, vertex, 1] = height
         blown = list(meshes)
-        blown[target] = dataclasses.replace(mesh, points=points)
+        blown[target] = dataclasses.replace(mesh, points=blowup.blown_points(height))
         seconds, result, blowups = timed_check(blown, pairs)
         contacts = face_times(result, blown)
         equal = away_from(contacts, target, blown_faces) == away_from(base_contacts, target, blown_faces)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 
 import numpy as np
@@ -26,6 +27,9 @@ import usdksl
 from usdksl import ccd
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from blowup_setup import add_blowup_arguments, blowup_target  # noqa: E402
+
 DEFAULT_SHOT = os.path.join(HERE, "..", "samples", "fold.usda")
 #: Relative padding of the swept-box filter (to the coordinates' magnitude), as the core pads boxes.
 BOX_PADDING = 1e-10
@@ -85,19 +89,14 @@ def run_queries(points: np.ndarray, sample: int, triangles: np.ndarray, pairs: n
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("shot", nargs="?", default=DEFAULT_SHOT)
-    parser.add_argument("--vertex", type=int, default=None, help="vertex to blow up (default: the middle one)")
-    parser.add_argument("--time", type=float, default=None, help="sample to blow it up at (default: middle sample)")
-    parser.add_argument("--heights", type=float, nargs="+", default=[1e3, 1e5, 1e7, 1e9])
+    add_blowup_arguments(parser, DEFAULT_SHOT)
     parser.add_argument("--tolerance", type=float, default=ccd.DEFAULT_TOLERANCE)
     parser.add_argument("--thickness", type=float, default=0.0)
     args = parser.parse_args(argv)
 
     shot = usdksl.load_shot(args.shot)
-    mesh = next(m for m in shot.meshes if m.kind == "deforming")
-    vertex = mesh.vertex_count // 2 if args.vertex is None else args.vertex
-    sample = (mesh.sample_count // 2 if args.time is None
-              else int(np.argmin(np.abs(mesh.times - args.time))))
+    blowup = blowup_target(shot.meshes, args)
+    mesh, vertex, sample = blowup.mesh, blowup.vertex, blowup.sample
     triangles = mesh.triangles
     blown = np.flatnonzero((triangles == vertex).any(axis=1))
     grid = np.stack(np.meshgrid(blown, np.arange(len(triangles)), indexing="ij"), axis=-1).reshape(-1, 2)
@@ -114,9 +113,8 @@ def main(argv=None) -> int:
           f"{'max iter':>9} {'hits':>6} {'undecided':>9}")
     per_query = []
     for height in args.heights:
-        points = mesh.points.copy()
-        points[sample, vertex, 1] = height
-        seconds, iterations, hits, undecided = run_queries(points, sample, triangles, pairs, args)
+        seconds, iterations, hits, undecided = run_queries(blowup.blown_points(height), sample, triangles, pairs,
+                                                           args)
         cpu_ratio = (seconds / len(iterations)) / base_per_query
         iteration_ratio = iterations.mean() / base_mean
         per_query.append(iterations.mean())

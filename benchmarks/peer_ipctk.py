@@ -4,6 +4,8 @@
     python benchmarks/peer_ipctk.py SHOT.usd --mode tight        # the tight reference
     python benchmarks/peer_ipctk.py SHOT.usd --mode sweep        # earliest contact per sample interval
     python benchmarks/peer_ipctk.py SHOT.usd --compare out/shot.contacts.csv   # usdksl's times vs tight
+    python benchmarks/peer_ipctk.py SHOT.usd --compare out/shot.contacts.csv --csv tight.csv   # ... and keep it
+    python benchmarks/peer_ipctk.py SHOT.usd --compare out/shot.contacts.csv --reference tight.csv  # reuse it
 
 ``all_first_contacts`` answers what ``usdksl check`` answers: the first-contact time of every contacting
 authored face pair over the whole shot. Per sample interval of the shot (the union of all meshes'
@@ -407,10 +409,12 @@ def earliest_contact_sweep(combined: CombinedMesh, settings: PeerSettings = Peer
 
 def pair_keys(prim_a, face_a, prim_b, face_b) -> np.ndarray:
     """Order-free string key per face pair: the smaller (prim, face) first."""
+    if len(np.asarray(face_a)) == 0:
+        return np.zeros(0, str)     # numpy's zfill cannot size an empty array
     side_a = np.char.add(np.char.add(np.asarray(prim_a, str), "#"), np.char.zfill(np.asarray(face_a).astype(str), 10))
     side_b = np.char.add(np.char.add(np.asarray(prim_b, str), "#"), np.char.zfill(np.asarray(face_b).astype(str), 10))
     low, high = np.where(side_a <= side_b, side_a, side_b), np.where(side_a <= side_b, side_b, side_a)
-    return np.char.add(np.char.add(low, "|"), high) if len(low) else np.zeros(0, str)
+    return np.char.add(np.char.add(low, "|"), high)
 
 
 def read_contacts_csv(path: str) -> Tuple[np.ndarray, np.ndarray]:
@@ -476,14 +480,24 @@ def main(argv=None) -> int:
     parser.add_argument("shot")
     parser.add_argument("--mode", choices=sorted(MODES) + ["sweep"], default="default")
     parser.add_argument("--thickness", type=float, default=0.0)
-    parser.add_argument("--csv", default=None, help="write the face pairs as a contacts CSV")
+    parser.add_argument("--csv", default=None, help="write the face pairs (with --compare: the tight reference's) as a contacts CSV")
     parser.add_argument("--compare", default=None, metavar="CONTACTS_CSV",
                         help="compare a usdksl contacts CSV of SHOT against the tight reference (prints JSON)")
+    parser.add_argument("--reference", default=None, metavar="REFERENCE_CSV",
+                        help="with --compare: the tight reference written earlier by --csv, instead of computing it")
     args = parser.parse_args(argv)
     started = time.perf_counter()
+    if args.compare and args.reference:
+        report = compare_times(*read_contacts_csv(args.compare), *read_contacts_csv(args.reference))
+        report["reference"] = args.reference
+        print(json.dumps(report, indent=2))
+        return 0
     if args.compare:
         report, reference = compare_csv_to_tight_reference(args.shot, args.compare, thickness=args.thickness)
         report["reference_seconds"] = round(time.perf_counter() - started, 2)
+        if args.csv:
+            with open(args.csv, "w") as handle:
+                handle.write(contacts_csv_text(reference))
         print(json.dumps(report, indent=2))
         return 0
     combined = load_combined(args.shot)

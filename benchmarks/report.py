@@ -30,6 +30,12 @@ ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "d
 SUMMARY_JSON = "bench_results.json"
 #: Hand-written findings about this page's numbers, embedded under "Investigations" when present.
 NOTES_MD = "notes.md"
+#: benchmarks/batch_scaling.py --write: a batch and a long shot on 1, 2 and all Dask workers.
+BATCH_SCALING_MD = "batch_scaling.md"
+#: Pages of other benchmarks embedded as they are, in this order, when present: (file, heading).
+EMBEDDED_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.py)"),
+                  ("exact_times.md", "Reported times against a tight reference (benchmarks/peer_ipctk.py)"),
+                  ("scale.md", "10k to 1M faces (benchmarks/scale.py)"))
 
 
 def _ok(row: Dict, label: str) -> Optional[Dict]:
@@ -492,6 +498,18 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
         with open(tolerance_table) as handle:
             lines += ["From [ccd_tolerance.md](ccd_tolerance.md) (per-query CCD on the shared ground-truth "
                       "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
+    for name, heading in EMBEDDED_PAGES:
+        page = os.path.join(out_dir, name)
+        if os.path.exists(page):
+            with open(page) as handle:
+                body = handle.read().strip().split("\n", 1)
+            text = body[1].strip() if body[0].startswith("# ") and len(body) > 1 else "\n".join(body)
+            lines += [f"## {heading}", "", f"From [{name}]({name}):", "", text.replace("\n## ", "\n### "), ""]
+    batches = os.path.join(out_dir, BATCH_SCALING_MD)
+    if os.path.exists(batches):
+        with open(batches) as handle:
+            lines += ["## Batches and long shots on Dask (benchmarks/batch_scaling.py)", "",
+                      f"From [{BATCH_SCALING_MD}]({BATCH_SCALING_MD}):", "", handle.read().strip(), ""]
     notes = os.path.join(out_dir, NOTES_MD)
     if os.path.exists(notes):
         with open(notes) as handle:

@@ -30,6 +30,7 @@ from ..reports.junit import junit_error_report
 from ..reports.override import shot_stem
 from ..scale.batch import (ShotOutcome, expand_shots, junit_for_outcomes, make_jobs, run_batch, run_here,
                            total_line, worst_exit_code)
+from ..scale.batch_progress import BatchProgress
 from ..stopping import Stopped, deferred_stops, stop_on_signals
 from .options import parse_time_range
 
@@ -90,15 +91,17 @@ def _echo(line: str) -> None:
               help="Also write a JUnit XML report, whatever the exit code: one testsuite per shot, one testcase "
                    "per checked pair; an <error> test case for a shot that cannot be checked.")
 @click.option("--strict", is_flag=True,
-              help="Exit 2 (nothing written) when the cache has a simulation blow-up or nothing is left "
-                   "to check, instead of warning.")
+              help="Exit 2 (nothing written) instead of warning when the cache has a simulation blow-up, "
+                   "geometry or an interval usdksl cannot check (nested PointInstancers, topology "
+                   "changes) or nothing left to check.")
 @click.option("-v", "--verbose", "verbosity", flag_value=VERBOSE,
               help="Also print the plan (what is checked and why the rest is not), one line per mesh pair "
                    "with contacts, and the files written.")
 @click.option("-q", "--quiet", "verbosity", flag_value=QUIET, help="Print errors only.")
 @click.option("--normal", "verbosity", flag_value=NORMAL, default=True, hidden=True)
 @click.option("--jobs", type=click.IntRange(min=1), default=None, metavar="N",
-              help="Check the shots on a local Dask cluster of N worker processes.")
+              help="Check the shots on a local Dask cluster of N worker processes; with fewer shots than "
+                   "workers, long shots are split into time windows (same files, byte for byte).")
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
@@ -208,8 +211,6 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
                 verbosity, plot_path, finished):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
     ``finished`` collects the outcomes shown (their files are written)."""
-    from tqdm import tqdm
-
     if jobs is not None and scheduler is not None:
         raise click.UsageError("give --jobs or --scheduler, not both")
     try:
@@ -220,20 +221,18 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
         else:
             from ..scale.dask_runner import run_on_dask
             runner = functools.partial(run_on_dask, workers=jobs, scheduler=scheduler)
-        bar = tqdm(total=len(entries), unit="shot", file=sys.stderr,
-                   disable=verbosity == QUIET or not progress_enabled(sys.stderr), leave=False)
+        bar = BatchProgress(len(entries), enabled=verbosity > QUIET and progress_enabled(sys.stderr))
 
         def show(outcome):
             for message in outcome.messages:
                 if message.shown(verbosity):
-                    bar.write(message.line(outcome.name), file=sys.stderr)
+                    bar.write(message.line(outcome.name))
             if outcome.result is None or verbosity >= NORMAL:
-                bar.write(outcome.line(), file=sys.stderr)
-            bar.update(1)
+                bar.write(outcome.line())
             finished.append(outcome)
 
         try:
-            outcomes = run_batch(entries, options, runner, on_outcome=show)
+            outcomes = run_batch(entries, options, runner, on_outcome=show, progress=bar)
         finally:
             bar.close()
         if junit_path:

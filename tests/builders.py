@@ -363,6 +363,28 @@ def baked_copy(source, target):
     return target
 
 
+def skinned_crowd(path):
+    """Two instances of the skinned arm of :func:`skinned_arm`, the prototype of a PointInstancer, bend
+    down through a deforming sheet at y = 0. The prototype ``/World/crowd/Prototypes/Character`` references
+    the arm's SkelRoot from ``arm_asset.usda`` beside ``path`` (as a crowd asset is); instance 0 stands at
+    (-1, 0, -2), instance 1 at (2.5, -0.1, 2) turned 180 degrees about Y. Unskinned, the arms would stay level
+    at y >= 1.2 and never touch the sheet. Returns the instance mesh names."""
+    asset = Path(path).parent / "arm_asset.usda"
+    skinned_arm(asset, with_sheet=False)
+    stage = new_stage(path)
+    stretching_sheet(stage, "/World/Sheet", size=8.0, columns=8, times=(1.0, 12.0))
+    instancer = UsdGeom.PointInstancer.Define(stage, "/World/crowd")
+    UsdGeom.Xform.Define(stage, "/World/crowd/Prototypes")
+    prototype = stage.DefinePrim("/World/crowd/Prototypes/Character")
+    prototype.GetReferences().AddReference(asset.name, "/World/Character")
+    instancer.CreatePrototypesRel().SetTargets([prototype.GetPath()])
+    instancer.CreateProtoIndicesAttr(Vt.IntArray([0, 0]))
+    instancer.CreatePositionsAttr(Vt.Vec3fArray([(-1.0, 0.0, -2.0), (2.5, -0.1, 2.0)]))
+    instancer.CreateOrientationsAttr(Vt.QuathArray([Gf.Quath(1.0), Gf.Quath(_quat((0, 1, 0), 180.0))]))
+    stage.GetRootLayer().Save()
+    return ["/World/crowd[0]/Character/Arm", "/World/crowd[1]/Character/Arm"]
+
+
 # --------------------------------------------------------------------------------------------- PointInstancer
 
 INSTANCE_DROP = {"start": 1.0, "end": 11.0}

@@ -2,8 +2,8 @@
 /// @brief Batch bindings of the narrow phase: arrays in, arrays out, GIL released.
 
 #include "usdksl/ccd/edge_edge_ccd.hpp"
-#include "usdksl/ccd/exact_predicates.hpp"
-#include "usdksl/ccd/triangle_triangle_static.hpp"
+#include "usdksl/geometry/exact_predicates.hpp"
+#include "usdksl/geometry/triangle_triangle_static.hpp"
 #include "usdksl/ccd/vertex_face_ccd.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 

@@ -2,7 +2,7 @@
 /// @file animations.hpp
 /// @brief Small deterministic animated meshes for the C++ unit tests.
 
-#include "usdksl/collision/mesh_animation.hpp"
+#include "usdksl/mesh_animation.hpp"
 
 #include <cmath>
 #include <cstdint>

@@ -172,3 +172,37 @@ def test_earliest_contact_sweep_finds_the_contact_interval(apex_shot):
     assert starts.tolist() == [0]
     assert times[0] == pytest.approx(1.8, abs=TIME_AGREEMENT)
     assert counters["intervals"] == 1
+
+
+def test_comparison_of_a_clean_shot_reports_no_pairs(tmp_path):
+    """A pyramid that stops above the ground: neither side finds a contact, and the comparison says so
+    (the reference's empty answer once crashed the key builder)."""
+    counts, indices, points = pyramid((0.0, 0.5, 0.0))
+    shot = write_shot(tmp_path / "clean.usda", {"/World/Ground": ground_quad(),
+                                                "/World/Pyramid": (counts, indices,
+                                                                   {1.0: points, 2.0: points - [0, 0.4, 0]})})
+    csv = tmp_path / "clean.contacts.csv"
+    csv.write_text("time,prim_a,face_a,prim_b,face_b,kind\n")
+    report, reference = peer_ipctk.compare_csv_to_tight_reference(shot, str(csv))
+    assert len(reference) == 0
+    assert report["reported_pairs"] == report["reference_pairs"] == report["common_pairs"] == 0
+    assert report["reported_without_reference_touch"] == report["reference_pairs_missing_from_report"] == 0
+
+
+def test_compare_reuses_a_reference_written_by_csv(apex_shot, tmp_path, capsys):
+    """--compare --csv keeps the tight reference; --compare --reference reads it back and reports the same."""
+    import json
+
+    csv, kept = tmp_path / "apex.contacts.csv", tmp_path / "tight.csv"
+    csv.write_text("time,prim_a,face_a,prim_b,face_b,kind\n"
+                   "1.805,/World/Ground,0,/World/Pyramid,2,inter\n"       # 0.005 late
+                   "1.7,/World/Ground,0,/World/Pyramid,4,inter\n")        # the base never touches
+    assert peer_ipctk.main([apex_shot, "--compare", str(csv), "--csv", str(kept)]) == 0
+    computed = json.loads(capsys.readouterr().out)
+    assert peer_ipctk.main([apex_shot, "--compare", str(csv), "--reference", str(kept)]) == 0
+    reused = json.loads(capsys.readouterr().out)
+    counts = ("reported_pairs", "reference_pairs", "within_agreement", "reported_without_reference_touch",
+              "reference_pairs_missing_from_report")
+    assert [computed[k] for k in counts] == [reused[k] for k in counts] == [2, 4, 0, 1, 3]
+    assert reused["largest_late_error"] == pytest.approx(computed["largest_late_error"], abs=1e-9)
+    assert computed["largest_late_error"] == pytest.approx(0.005, abs=1e-6)

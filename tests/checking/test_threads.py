@@ -44,6 +44,18 @@ def test_per_frame_cloth_contacts_do_not_depend_on_the_thread_count(method):
     assert_identical(results)
 
 
+def test_a_contact_that_lasts_over_several_windows_is_confirmed_once():
+    """Windows are confirmed in time order: a pair confirmed in an earlier window is not confirmed again
+    in a later one (the cloth rests on the table through every window)."""
+    meshes = per_frame_cloth()
+    results = answers_by_thread_count(meshes, [(0, 0), (0, 1)], "ksl")
+    pairs = len(results[1])
+    assert pairs > 0
+    for threads, result in results.items():
+        confirmations = result.counters["raw_confirmations"]
+        assert confirmations == results[1].counters["raw_confirmations"], (threads, confirmations, pairs)
+
+
 def test_a_time_range_inside_the_shot_is_split_the_same_way():
     meshes = per_frame_cloth()
     results = answers_by_thread_count(meshes, [(0, 0), (0, 1)], "ksl", time_range=(7.5, 33.0))

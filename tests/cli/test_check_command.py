@@ -416,6 +416,12 @@ def test_topology_change_is_checked_per_segment_with_a_warning(tmp_path):
     prim = layered.GetPrimAtPath("/World/Changing")
     assert prim.GetAttribute("usdksl:firstContactTime").Get() == pytest.approx(20.0, abs=1e-4)
 
+    strict = run([shot, "--strict", "--out", tmp_path / "strict"])     # the interval 6..12 is not checked
+    assert strict.exit_code == 2, strict.stderr
+    errors = [line for line in strict.stderr.splitlines() if line.startswith("usdksl: error")]
+    assert len(errors) == 1 and "/World/Changing" in errors[0] and "6 and 12" in errors[0], strict.stderr
+    assert not (tmp_path / "strict").exists() or not any((tmp_path / "strict").iterdir())
+
 
 def test_points_count_change_is_checked_per_segment(tmp_path):
     # arrays of different sizes cannot be blended, so USD holds the earlier one until the next sample

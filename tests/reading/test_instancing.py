@@ -198,3 +198,11 @@ def test_nested_instancer_and_missing_prototype_are_warned_about(tmp_path):
     assert len(nested) == 1 and "not checked" in nested[0]
     assert len(missing) == 1 and "prototype 2" in missing[0]
     assert {mesh.instance_index for mesh in shot.meshes if mesh.instancer} == set(INSTANCE_MESHES)
+    assert [item.prim for item in shot.unchecked] == ["/World/scatter/Prototypes/crate/pebbles"]
+
+    out = tmp_path / "out"
+    strict = run_cli("check", path, "--strict", "--out", out)
+    assert strict.exit_code == 2, strict.output
+    errors = [line for line in strict.stderr.splitlines() if line.startswith("usdksl: error")]
+    assert len(errors) == 1 and "/World/scatter/Prototypes/crate/pebbles" in errors[0] and "--strict" in errors[0]
+    assert not out.exists() or not any(out.iterdir())

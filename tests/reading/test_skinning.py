@@ -8,7 +8,7 @@ from usdksl.errors import UsdkslInputError
 from usdksl.reading.loader import load_shot
 from usdksl.reading.skinning import find_skinned_meshes
 
-from builders import baked_copy, sha256 as file_digest, skinned_arm
+from builders import baked_copy, sha256 as file_digest, skinned_arm, skinned_crowd
 from .conftest import run_cli
 
 #: Largest time difference between a contact on the skinned stage and on its baked copy (time codes).
@@ -141,3 +141,25 @@ def test_skeleton_that_cannot_be_posed_is_an_input_error(tmp_path):
         f"usdksl: error: {raised.value}"]
     excluded = run_cli("check", path, "--out", tmp_path / "out", "--exclude", names["arm"])
     assert excluded.exit_code == 2 and "no UsdGeom.Mesh prims match" in excluded.stderr   # not the skel error
+
+
+def test_skinned_prototype_instances_are_posed_as_bake_skinning_bakes_them(tmp_path, check):
+    """A skinned mesh inside a PointInstancer prototype: each instance carries UsdSkel's pose (its baked
+    copy is the reference), so the arms reach the sheet; loaded unskinned they would never touch it."""
+    path = tmp_path / "crowd.usda"
+    names = skinned_crowd(path)
+    baked = baked_copy(path, tmp_path / "crowd_baked.usda")
+    skinned, reference = load_shot(path), load_shot(baked)
+    for name in names:
+        mesh, other = skinned.mesh(name), reference.mesh(name)
+        assert mesh.kind == other.kind == "deforming"
+        assert mesh.times.tolist() == other.times.tolist()
+        np.testing.assert_allclose(mesh.points, other.points, rtol=0, atol=2 * FLOAT32_POINTS)
+        assert mesh.points[0, :, 1].min() > 1.0 and mesh.points[-1, :, 1].min() < 0.0   # the bend is there
+
+    result, contacts, summary = check(path)
+    baked_result, baked_contacts, _ = check(baked)
+    assert result.exit_code == baked_result.exit_code == 1, result.stderr + baked_result.stderr
+    assert set(summary) == {tuple(sorted((name, "/World/Sheet"))) for name in names}
+    assert set(contacts) == set(baked_contacts)
+    assert max(abs(contacts[key] - baked_contacts[key]) for key in contacts) <= TIME_AGREEMENT

@@ -4,9 +4,7 @@
 import os
 import shutil
 import signal
-import socket
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -15,13 +13,11 @@ from click.testing import CliRunner
 
 from usdksl.cli.main import main
 
+from .conftest import POLL_SECONDS, RUN_SECONDS, STARTUP_SECONDS, executable, processing_worker
+
 SHOTS = ("fold", "drape", "pass_through")
 #: The files every shot writes (no --json/--junit/--crosscheck).
 SUFFIXES = (".contacts.csv", ".summary.csv", ".usdksl.usda")
-#: Seconds a Dask process may take to come up, and a whole check on Dask to finish.
-STARTUP_SECONDS = 60
-RUN_SECONDS = 300
-POLL_SECONDS = 0.01
 
 
 def _files(folder, names=SHOTS):
@@ -41,14 +37,8 @@ def single_runs(tmp_path_factory, samples_dir):
     return _files(out)
 
 
-def _executable(name):
-    found = shutil.which(name, path=str(Path(sys.executable).parent))
-    assert found, f"{name} is installed beside {sys.executable}"
-    return found
-
-
 def _check_command(samples_dir, out, *extra):
-    return [_executable("usdksl"), "check", *[str(samples_dir / f"{name}.usda") for name in SHOTS],
+    return [executable("usdksl"), "check", *[str(samples_dir / f"{name}.usda") for name in SHOTS],
             "--out", str(out), *extra]
 
 
@@ -97,44 +87,6 @@ def test_jobs_on_a_local_cluster_write_what_single_runs_write(single_runs, sampl
     assert completed.stderr.splitlines()[-1] == "usdksl: 3 shots: 0 clean, 3 with contacts, 0 failed; exit code 1"
 
 
-def _free_port():
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
-@pytest.fixture
-def dask_cluster(tmp_path):
-    """A real `dask scheduler` and two `dask worker` processes (no nanny: a killed worker stays dead) on
-    loopback, working in a folder of their own. Yields (address, {worker name: Popen}, client)."""
-    from distributed import Client
-
-    address = f"tcp://127.0.0.1:{_free_port()}"
-    workdir = tmp_path / "dask"
-    workdir.mkdir()
-    dask = _executable("dask")
-    processes = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", address.rsplit(":", 1)[1],
-                                   "--no-dashboard"], cwd=workdir, stdout=subprocess.DEVNULL,
-                                  stderr=subprocess.DEVNULL)]
-    workers = {}
-    client = None
-    try:
-        for name in ("w1", "w2"):
-            workers[name] = subprocess.Popen([dask, "worker", address, "--nthreads", "1", "--no-nanny", "--name",
-                                              name, "--no-dashboard", "--death-timeout", str(STARTUP_SECONDS)],
-                                             cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            processes.append(workers[name])
-        client = Client(address, timeout=STARTUP_SECONDS)
-        client.wait_for_workers(2, timeout=STARTUP_SECONDS)
-        yield address, workers, client
-    finally:
-        if client is not None:
-            client.close()
-        for process in reversed(processes):
-            process.kill()
-            process.wait(timeout=STARTUP_SECONDS)
-
-
 def test_scheduler_address_writes_what_single_runs_write(single_runs, samples_dir, tmp_path, dask_cluster):
     address, _, _ = dask_cluster
     completed = subprocess.run(_check_command(samples_dir, tmp_path, "--scheduler", address),
@@ -152,12 +104,9 @@ def test_a_worker_killed_mid_run_loses_and_duplicates_nothing(single_runs, sampl
     deadline = time.monotonic() + RUN_SECONDS
     try:
         while killed is None and check.poll() is None and time.monotonic() < deadline:
-            names = {address: info["name"] for address, info in client.scheduler_info()["workers"].items()}
-            for worker, keys in client.processing().items():
-                if any(str(key).startswith("usdksl-check-") for key in keys) and names.get(worker) in workers:
-                    killed = names[worker]
-                    workers[killed].send_signal(signal.SIGKILL)
-                    break
+            killed = processing_worker(client, workers, "usdksl-check-")
+            if killed is not None:
+                workers[killed].send_signal(signal.SIGKILL)
             time.sleep(POLL_SECONDS)
         _, stderr = check.communicate(timeout=RUN_SECONDS)
     finally:

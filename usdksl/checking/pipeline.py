@@ -35,7 +35,7 @@ from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.timeline import require_matplotlib, timeline_png
 from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import __version__
-from .collision import METHODS, find_contacts
+from .collision import METHODS, default_threads, find_contacts
 from .last_contact import last_contacts
 
 TimeRange = Tuple[float, float]
@@ -104,8 +104,8 @@ class CheckOptions:
     #: Also find each face pair's last contact by checking the shot played backwards
     #: (usdksl.checking.last_contact): a second run of the core, about as long as the first.
     last_contact: bool = False
-    #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
-    #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
+    #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, geometry read past
+    #: unchecked, nothing left to check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
     strict: bool = False
     #: Threads of the core (None: every core this process may use). Does not change any result, so
     #: not in settings().
@@ -204,6 +204,8 @@ class CheckResult:
     clock: StageClock = StageClock()
     #: The contacts held against a baseline (None without one).
     baseline: Optional[BaselineComparison] = None
+    #: Threads the core ran with (options.threads, or every core of the process that checked).
+    threads: int = 1
 
     @property
     def undecided(self) -> int:
@@ -249,18 +251,66 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     options.validate()
     targets = targets or OutputTargets(out_dir=Path(shot).resolve().parent)
     messages: List[Message] = []
+    say = message_collector(messages, on_message)
+    planned = load_and_plan(shot, options, name, say)
+    report_blowups(planned.segments, planned.plans, name, say, options.strict)
+    span = checked_span(options, planned.segments)
+    bar = progress(span[0], span[1]) if progress is not None else None
+    # the backwards run of --last-contact goes from -end to -start
+    reverse_bar = (progress(-span[1], -span[0], label=REVERSE_PROGRESS_LABEL)
+                   if progress is not None and options.last_contact else None)
+    tables = []
+    counters: Dict[str, int] = {}
+    try:
+        for (segment_range, segment), segment_plan in zip(planned.segments, planned.plans):
+            contacts_before = sum(table.count for table in tables)
+            report = None if bar is None else (
+                lambda reached, count, before=contacts_before: bar(reached, before + count))
+            reverse_report = None if reverse_bar is None else (
+                lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
+            tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
+                                        reverse_report))
+    finally:
+        for shown in (bar, reverse_bar):
+            if shown is not None and hasattr(shown, "close"):
+                shown.close()
+    return conclude(shot, name, options, targets, planned, tables, span, counters, messages, say, baseline,
+                    started)
 
+
+def message_collector(messages: List[Message],
+                      on_message: Optional[Callable[[Message], None]] = None) -> Callable[[str, str], None]:
+    """say(level, text): append the Message to ``messages`` and hand it to ``on_message``."""
     def say(level: str, text: str) -> None:
         message = Message(level, text)
         messages.append(message)
         if on_message is not None:
             on_message(message)
+    return say
 
+
+@dataclass
+class PlannedShot:
+    """A shot loaded for checking: its constant-topology segments [(range, loaded Shot)] (usdksl.reading),
+    the plan of each and their merged plan."""
+
+    segments: list
+    plans: List[Plan]
+    plan: Plan
+
+
+def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[[str, str], None]) -> PlannedShot:
+    """Load ``shot`` over ``options.time_range`` (the whole shot when None) and plan what is checked; says
+    the loader's warnings and the plan lines. Raises UsdkslInputError on bad input (spline motion included)
+    and, under ``options.strict``, when no mesh pair is left to check."""
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
-    segments = load_segments(shot, options.time_range, predicate, say, name)
+    segments = load_segments(shot, options.time_range, predicate, say, name, options.strict)
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
+    unchecked = [item for _, segment in segments for item in segment.unchecked]
+    if options.strict and unchecked:
+        raise UsdkslInputError(f"{unchecked[0].reason} (--strict)", file=name, prim=unchecked[0].prim)
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
                          include_guides=options.include_guides, include_invisible=options.include_invisible,
                          rigid=options.rigid)
@@ -277,38 +327,29 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             say(PLAN, line.strip() if line.startswith("pairs") else line)
         plans.append(segment_plan)
     plan = merge_plans(plans)
-    report_blowups(segments, plans, name, say, options.strict)
     if options.strict and not plan.checked_pairs:
         raise UsdkslInputError("no mesh pair left to check (--strict)", file=name)
+    return PlannedShot(segments=segments, plans=plans, plan=plan)
 
+
+def checked_span(options: CheckOptions, segments) -> TimeRange:
+    """The range a check covers, in time codes: ``options.time_range``, or the loaded samples' span."""
     if options.time_range is not None:
-        span = options.time_range
-    else:
-        all_times = np.concatenate([segment.times for _, segment in segments])
-        span = (float(all_times.min()), float(all_times.max())) if all_times.size else (0.0, 0.0)
-    bar = progress(span[0], span[1]) if progress is not None else None
-    # the backwards run of --last-contact goes from -end to -start
-    reverse_bar = (progress(-span[1], -span[0], label=REVERSE_PROGRESS_LABEL)
-                   if progress is not None and options.last_contact else None)
-    tables = []
-    counters: Dict[str, int] = {}
-    try:
-        for (segment_range, segment), segment_plan in zip(segments, plans):
-            contacts_before = sum(table.count for table in tables)
-            report = None if bar is None else (
-                lambda reached, count, before=contacts_before: bar(reached, before + count))
-            reverse_report = None if reverse_bar is None else (
-                lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
-            tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
-                                        reverse_report))
-    finally:
-        for shown in (bar, reverse_bar):
-            if shown is not None and hasattr(shown, "close"):
-                shown.close()
+        return options.time_range
+    all_times = np.concatenate([segment.times for _, segment in segments])
+    return (float(all_times.min()), float(all_times.max())) if all_times.size else (0.0, 0.0)
+
+
+def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets, planned: PlannedShot,
+             tables: Sequence[ContactTable], span: TimeRange, counters: Dict[str, int], messages: List[Message],
+             say: Callable[[str, str], None], baseline: Optional[Baseline], started: float) -> CheckResult:
+    """The result of a check from the contacts of each segment (``tables``): held against ``baseline``,
+    cross-checked when asked, every report rendered. Says what a finished check says."""
+    plan = planned.plan
     if not plan.checked_pairs:
         say(WARNING, "no mesh pair left to check")
-    table = ContactTable.concatenate(tables)
-    clock = StageClock.from_metadata(segments[0][1].metadata)
+    table = ContactTable.concatenate(list(tables))
+    clock = StageClock.from_metadata(planned.segments[0][1].metadata)
     comparison = None
     if baseline is not None:
         comparison = compare(table, baseline)
@@ -320,16 +361,16 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
     crosscheck_text = None
     if options.crosscheck:
-        crosscheck_text, consistent = _crosscheck(segments, plans, tables, say)
+        crosscheck_text, consistent = _crosscheck(planned.segments, planned.plans, tables, say)
         if not consistent:
             exit_code = CROSSCHECK_DISAGREES
-    files, stdout = render_files(shot, name, options, targets, segments, plan, tables, exit_code, span,
+    files, stdout = render_files(shot, name, options, targets, planned.segments, plan, tables, exit_code, span,
                                  crosscheck_text, comparison)
     return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,
-                       segments=[(r, t) for (r, _), t in zip(segments, tables)], clock=clock,
-                       baseline=comparison)
+                       segments=[(r, t) for (r, _), t in zip(planned.segments, tables)], clock=clock,
+                       baseline=comparison, threads=options.threads or default_threads())
 
 
 def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
@@ -415,10 +456,10 @@ def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[st
 
 
 def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[[str, str], None],
-                  name: Optional[str] = None):
+                  name: Optional[str] = None, strict: bool = False):
     """[(range, Shot)]: the whole shot, or one Shot per constant-topology stretch (usdksl.reading.segments)
-    with a warning per topology change; ``range`` is None when the whole shot is checked without a
-    time range."""
+    with a warning per topology change (an input error under ``strict``: the interval across a change is
+    not checked); ``range`` is None when the whole shot is checked without a time range."""
     try:
         return [(time_range, load_shot(shot, time_range=time_range, include=predicate))]
     except UsdkslInputError as error:
@@ -430,6 +471,10 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
         ranges = split_range(full_range(stage, paths, time_range), gaps)
         if not gaps or not ranges:
             raise
+    if strict:
+        gap_start, gap_end, path = gaps[0]
+        raise UsdkslInputError(f"topology changes between time {gap_start:g} and {gap_end:g}, so that interval "
+                               f"cannot be checked (--strict)", file=name or shot, prim=path, time=gap_start)
     for gap_start, gap_end, path in gaps:
         say(WARNING, f"{name or shot}: {path}: topology changes between time {gap_start:g} and {gap_end:g}; "
                      f"that interval is not checked")

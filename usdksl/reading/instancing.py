@@ -15,6 +15,10 @@ World points of instance i of prototype mesh m at time t (time codes):
 
 so the prototype root's own transform, scales, orientations and positions apply as UsdGeom defines, and
 the transforms of prims between the instancer and a prototype root are ignored (as UsdImaging does).
+A prototype mesh that UsdSkel skins (a SkelRoot inside the prototype, :mod:`usdksl.reading.skinning`)
+is posed first: its skinned points at t go through the skeleton's local-to-world transform and back
+through the inverse of the prototype root's, in place of ``points_m(t) x [transforms ... root]``, and
+its skinning samples are sample times too.
 
 Sample times: the union of the samples of the instancer's per-instance attributes (positions, orientations,
 scales, velocities, angular velocities, accelerations, protoIndices, ids, invisibleIds), the xformOp
@@ -43,14 +47,18 @@ Meshes below a PointInstancer are never loaded on their own (see :func:`usdksl.r
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Dict, List, Optional, Tuple
+from typing import TYPE_CHECKING, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 from pxr import Usd, UsdGeom
 
 from ..errors import UsdkslInputError
-from .meshes import (MeshData, MeshTopology, _MatrixCache, check_finite_points, classified_mesh,
+from .meshes import (MeshData, MeshTopology, UncheckedGeometry, _MatrixCache, check_finite_points, classified_mesh,
+                     rendered, unmeshed_solid_kind,
                      read_local_points, read_topology, xform_sample_times)
+
+if TYPE_CHECKING:
+    from .skinning import SkinnedMesh
 
 #: Per-instance attributes whose time samples move or change instances.
 INSTANCE_ATTRIBUTES = ("positions", "orientations", "orientationsf", "scales", "velocities",
@@ -84,6 +92,7 @@ class Instancer:
     prim: Usd.Prim
     file: str
     warnings: List[str]
+    unchecked: List[UncheckedGeometry] = field(default_factory=list)
     prototype_meshes: List[PrototypeMesh] = field(default_factory=list)
     _transforms: Dict[Tuple[float, float], np.ndarray] = field(default_factory=dict)
     _warned_velocity: bool = False
@@ -181,17 +190,21 @@ class InstancedMesh:
     instancer: Instancer
     mesh: PrototypeMesh
     wanted: Callable[[str], bool]
+    skinned: Optional["SkinnedMesh"] = None     # UsdSkel poses the prototype mesh
 
     @property
     def path(self) -> str:
         return str(self.mesh.prim.GetPath())
 
     def motion_prims(self) -> List[Usd.Prim]:
-        return [self.instancer.prim, self.mesh.root, self.mesh.prim]
+        prims = [self.instancer.prim, self.mesh.root, self.mesh.prim]
+        return prims + (self.skinned.motion_prims() if self.skinned is not None else [])
 
     def sample_times(self) -> np.ndarray:
         times = self.instancer.sample_times()
         times.update(UsdGeom.Mesh(self.mesh.prim).GetPointsAttr().GetTimeSamples())
+        if self.skinned is not None:
+            times.update(self.skinned.sample_times().tolist())
         probe = self.mesh.prim
         while probe and probe != self.mesh.root.GetParent():
             xformable = UsdGeom.Xformable(probe)
@@ -216,14 +229,18 @@ class InstancedMesh:
         if kept.size == 0:
             return []
         topology = read_topology(self.mesh.prim, times, file)
-        points_attr = UsdGeom.Mesh(self.mesh.prim).GetPointsAttr()
+        if self.skinned is not None and not self.skinned.poseable:
+            self.skinned.load(times, file, matrices)        # raises the skinned mesh's own input error
         points = np.empty((kept.size, times.size, topology.point_count, 3), dtype=np.float64)
         local_constant = True
+        first_local = None
         for k, time in enumerate(times.tolist()):
-            local = read_local_points(file, self.path, points_attr, time, topology)
-            if local_constant and local is not topology.first_local:
-                local_constant = np.array_equal(local, topology.first_local)
-            points[:, k] = self._world(local, time, time, matrices)[kept]
+            local, relative = self._prototype_points(time, topology, file, matrices)
+            if first_local is None:
+                first_local = local
+            elif local_constant and local is not first_local:
+                local_constant = np.array_equal(local, first_local)
+            points[:, k] = self._world(local, relative, time, time, matrices)[kept]
             if not np.isfinite(points[:, k]).all():
                 row = int(np.argmax(~np.isfinite(points[:, k]).all(axis=(1, 2))))
                 check_finite_points(file, names[row], time, points[row, k])
@@ -233,8 +250,16 @@ class InstancedMesh:
                                 instancer=self.instancer.path, instance_index=int(index))
                 for row, (name, index) in enumerate(zip(names, kept.tolist()))]
 
-    def _world(self, local: np.ndarray, time: float, base_time: float, matrices: _MatrixCache) -> np.ndarray:
-        """float64[instances, N, 3]: ``local`` prototype-mesh points of every instance in world space."""
+    def _prototype_points(self, time: float, topology: MeshTopology, file: str, matrices: _MatrixCache):
+        """(points of the prototype mesh at ``time``, float64[N, 3]; the matrix taking them into the frame
+        of the prototype root's children). A skinned prototype mesh is posed by UsdSkel, in the skeleton's
+        space, and taken from there through the skeleton's and the root's local-to-world transforms, so
+        instances carry the skinned pose exactly as ``UsdSkel.BakeSkinning`` would bake it."""
+        points_attr = UsdGeom.Mesh(self.mesh.prim).GetPointsAttr()
+        local = read_local_points(file, self.path, points_attr, time, topology)
+        if self.skinned is not None:
+            posed, to_world = self.skinned.posed(local, time, file, matrices)
+            return posed, to_world @ np.linalg.inv(matrices.local_to_world(self.mesh.root, time))
         cache = matrices.xform_cache(time)
         relative = np.eye(4)
         probe = self.mesh.prim
@@ -244,6 +269,12 @@ class InstancedMesh:
             if resets:
                 break
             probe = probe.GetParent()
+        return local, relative
+
+    def _world(self, local: np.ndarray, relative: np.ndarray, time: float, base_time: float,
+               matrices: _MatrixCache) -> np.ndarray:
+        """float64[instances, N, 3]: prototype-mesh points of every instance in world space (``relative``
+        takes ``local`` into the frame of the prototype root's children)."""
         instance = self.instancer.transforms(time, base_time)
         full = relative[None] @ instance @ matrices.local_to_world(self.instancer.prim, time)[None]
         with np.errstate(invalid="ignore", over="ignore"):   # non-finite results are reported by the caller
@@ -255,7 +286,6 @@ class InstancedMesh:
 
     def _check_velocities(self, times, topology: MeshTopology, kept, points, matrices, file) -> None:
         """Warn when USD's velocity-driven instances leave the straight line between two samples."""
-        points_attr = UsdGeom.Mesh(self.mesh.prim).GetPointsAttr()
         size = np.linalg.norm(np.ptp(points, axis=2), axis=-1).max(axis=1)   # per instance diagonal
         size = np.maximum(size, np.finfo(np.float64).tiny)
         for k in range(times.size - 1):
@@ -263,8 +293,8 @@ class InstancedMesh:
             middle = 0.5 * (start + end)
             straight_middle = 0.5 * (points[:, k] + points[:, k + 1])
             for time, straight in ((middle, straight_middle), (end, points[:, k + 1])):
-                local = read_local_points(file, self.path, points_attr, time, topology)
-                usd = self._world(local, time, start, matrices)[kept]
+                local, relative = self._prototype_points(time, topology, file, matrices)
+                usd = self._world(local, relative, time, start, matrices)[kept]
                 distance = np.linalg.norm(usd - straight, axis=-1).max(axis=1)
                 worst = int(np.argmax(distance / size))
                 if distance[worst] > VELOCITY_DEVIATION_TOLERANCE * size[worst]:
@@ -272,9 +302,14 @@ class InstancedMesh:
                     return
 
 
-def _prototype_meshes(instancer: Instancer) -> List[PrototypeMesh]:
+def _prototype_meshes(instancer: Instancer, wanted: Callable[[str], bool],
+                      unmeshed: List[Tuple[str, str]]) -> List[PrototypeMesh]:
+    """The mesh prims of every prototype; (kind, path) of solid non-meshes in prototypes that have
+    selected instances on a rendered instancer are appended to ``unmeshed``."""
     stage = instancer.prim.GetStage()
     meshes = []
+    proto_indices = np.asarray(instancer.schema.GetProtoIndicesAttr().Get(Usd.TimeCode.EarliestTime()) or [],
+                               dtype=np.int64) if rendered(instancer.prim) else np.zeros(0, np.int64)
     for index, target in enumerate(instancer.schema.GetPrototypesRel().GetForwardedTargets()):
         root = stage.GetPrimAtPath(target)
         if not root:
@@ -284,21 +319,36 @@ def _prototype_meshes(instancer: Instancer) -> List[PrototypeMesh]:
         prims = iter(Usd.PrimRange(root, _PROTOTYPE_PREDICATE))
         for prim in prims:
             if prim.IsA(UsdGeom.PointInstancer):
-                instancer.warnings.append(
-                    f"{instancer.file}: {prim.GetPath()}: a PointInstancer inside prototype {index} of "
-                    f"{instancer.path}: nested instancing is not supported; its instances are not checked")
+                reason = (f"a PointInstancer inside prototype {index} of {instancer.path}: nested instancing is "
+                          f"not supported; its instances are not checked")
+                instancer.warnings.append(f"{instancer.file}: {prim.GetPath()}: {reason}")
+                instancer.unchecked.append(UncheckedGeometry(prim=str(prim.GetPath()), reason=reason))
                 prims.PruneChildren()
+                continue
+            below = str(prim.GetPath().MakeRelativePath(root.GetPath()))
+            relative = "/" + root.GetName() + ("" if below == "." else "/" + below)
+            if unmeshed_solid_kind(prim) and rendered(prim) and any(
+                    wanted(instance_mesh_path(instancer.path, i, relative))
+                    for i in np.flatnonzero(proto_indices == index).tolist()):
+                unmeshed.append((unmeshed_solid_kind(prim), str(prim.GetPath())))
             elif prim.IsA(UsdGeom.Mesh):
-                below = str(prim.GetPath().MakeRelativePath(root.GetPath()))
-                relative = "/" + root.GetName() + ("" if below == "." else "/" + below)
                 meshes.append(PrototypeMesh(prim=prim, root=root, prototype_index=index, relative_path=relative))
     return meshes
 
 
 def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file: str,
-                          warnings: List[str]) -> List[InstancedMesh]:
+                          warnings: List[str], skinned: Optional[Dict[str, "SkinnedMesh"]] = None,
+                          unchecked: Optional[List[UncheckedGeometry]] = None,
+                          unmeshed: Optional[List[Tuple[str, str]]] = None) -> List[InstancedMesh]:
     """One InstancedMesh per (PointInstancer, prototype mesh), in traversal order. PointInstancers below
-    another PointInstancer are prototypes of it (nested instancing, see the module docstring)."""
+    another PointInstancer are prototypes of it (nested instancing, see the module docstring).
+    ``skinned``: {mesh path: SkinnedMesh} of :func:`usdksl.reading.skinning.find_skinned_meshes`; prototype
+    meshes found there are posed by UsdSkel. Geometry read past without a check is appended to
+    ``unchecked`` (and to ``warnings``); solid non-mesh prims in prototypes with instances to ``unmeshed``
+    as (kind, path)."""
+    skinned = skinned or {}
+    unchecked = unchecked if unchecked is not None else []
+    unmeshed = unmeshed if unmeshed is not None else []
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     found = []
     prims = iter(Usd.PrimRange.Stage(stage, predicate))
@@ -306,8 +356,9 @@ def find_instanced_meshes(stage: Usd.Stage, wanted: Callable[[str], bool], file:
         if not prim.IsA(UsdGeom.PointInstancer):
             continue
         prims.PruneChildren()
-        instancer = Instancer(prim=prim, file=file, warnings=warnings)
-        instancer.prototype_meshes = _prototype_meshes(instancer)
-        found.extend(InstancedMesh(instancer=instancer, mesh=mesh, wanted=wanted)
+        instancer = Instancer(prim=prim, file=file, warnings=warnings, unchecked=unchecked)
+        instancer.prototype_meshes = _prototype_meshes(instancer, wanted, unmeshed)
+        found.extend(InstancedMesh(instancer=instancer, mesh=mesh, wanted=wanted,
+                                   skinned=skinned.get(str(mesh.prim.GetPath())))
                      for mesh in instancer.prototype_meshes)
     return found

@@ -36,7 +36,8 @@ from pxr import Tf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError, UsdkslUsageError
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
-from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, _MatrixCache, _window, load_mesh,  # noqa: F401
+from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
+                     unmeshed_solid_kind, _window, load_mesh,  # noqa: F401
                      mesh_sample_times, topology_segments)
 
 IncludeFilter = Union[None, Callable[[str], bool], str, Sequence[str]]
@@ -150,6 +151,31 @@ def mesh_prims(stage: Usd.Stage, include: IncludeFilter = None) -> List[Usd.Prim
             found.append(prim)
     return found
 
+
+def unmeshed_solids(stage: Usd.Stage, include: IncludeFilter = None,
+                    in_prototypes: Sequence[Tuple[str, str]] = ()) -> List[UncheckedGeometry]:
+    """One UncheckedGeometry per kind of solid non-mesh gprim (:func:`usdksl.reading.meshes.unmeshed_solid_kind`)
+    that is visible, not a guide (left out as for meshes) and not below a PointInstancer, plus
+    ``in_prototypes`` ((kind, path) found in prototypes with instances): geometry a contact could be
+    with that usdksl reads past, with its first prim and how many there are."""
+    wanted = _include_predicate(include)
+    found: Dict[str, List[str]] = {}
+    prims = iter(Usd.PrimRange.Stage(stage, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+    for prim in prims:
+        if prim.IsA(UsdGeom.PointInstancer):
+            prims.PruneChildren()
+            continue
+        kind = unmeshed_solid_kind(prim)
+        if kind and wanted(str(prim.GetPath())) and rendered(prim):
+            found.setdefault(kind, []).append(str(prim.GetPath()))
+    for kind, path in in_prototypes:
+        found.setdefault(kind, []).append(path)
+    return [UncheckedGeometry(prim=paths[0], reason=(
+                f"{len(paths)} UsdGeom.{kind} prim{'s' if len(paths) > 1 else ''} (first {paths[0]}) not "
+                f"checked: usdksl checks UsdGeom.Mesh surfaces only; export colliders as meshes"))
+            for kind, paths in found.items()]
+
+
 # --------------------------------------------------------------------------- whole shot
 
 def _check_time_range(file: str, time_range) -> Optional[Tuple[float, float]]:
@@ -174,29 +200,16 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
     values evaluated exactly at a and b. ``include``: see :func:`mesh_prims`.
     Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input.
     """
-    from . import instancing, layer_rates, skinning   # they build on this module
+    from . import layer_rates   # it builds on this module
 
     file = os.fspath(path)
     time_range = _check_time_range(file, time_range)
     stage = open_stage(file)
     metadata = stage_metadata(stage)
     warnings: List[str] = []
-    try:
-        prims = mesh_prims(stage, include)
-        skinned = skinning.find_skinned_meshes(stage)
-        sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
-        sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings)
-    except Tf.ErrorException as error:
-        raise UsdkslInputError(f"cannot read the stage: {_pxr_error_text(error)}", file=file) from None
-    if not sources:
-        what = "no UsdGeom.Mesh prims" if include is None else "no UsdGeom.Mesh prims match the selection"
-        raise UsdkslInputError(f"{what} on the stage", file=file)
-
-    try:
-        per_mesh_times = [_window(source.sample_times(), time_range) for source in sources]
-    except Tf.ErrorException as error:
-        raise UsdkslInputError(f"cannot read time samples: {_pxr_error_text(error)}",
-                               file=file) from None
+    unchecked: List[UncheckedGeometry] = []
+    sources = _mesh_sources(stage, include, file, warnings, unchecked)
+    per_mesh_times = [_window(times, time_range) for times in _source_sample_times(sources, file)]
     animated = [times for times in per_mesh_times if times.size]
     if animated:
         reference_time = float(min(times[0] for times in animated))
@@ -233,7 +246,51 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
         stage, [prim for source in sources for prim in source.motion_prims()], file))
     shot_times = np.unique(np.concatenate([mesh.times for mesh in meshes]))
     return Shot(path=file, meshes=meshes, times=shot_times, metadata=metadata, stage=stage,
-                warnings=warnings)
+                warnings=warnings, unchecked=unchecked)
+
+
+def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings: List[str],
+                  unchecked: Optional[List[UncheckedGeometry]] = None) -> list:
+    """What load_shot loads, in its order: a skinned mesh, an authored mesh or a PointInstancer's
+    prototype mesh, each with ``sample_times()`` and ``load()``. Geometry read past without a check
+    (nested instancers, solid non-meshes) goes to ``unchecked``, each with a line in ``warnings``.
+    Raises UsdkslInputError when there is nothing to load."""
+    from . import instancing, skinning   # they build on this module
+
+    unchecked = unchecked if unchecked is not None else []
+    in_prototypes: List[Tuple[str, str]] = []     # (kind, path) of solid non-meshes in instanced prototypes
+    try:
+        prims = mesh_prims(stage, include)
+        skinned = skinning.find_skinned_meshes(stage)
+        sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
+        sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings,
+                                                     skinned, unchecked, in_prototypes)
+        for item in unmeshed_solids(stage, include, in_prototypes):
+            unchecked.append(item)
+            warnings.append(f"{file}: {item.reason}")
+    except Tf.ErrorException as error:
+        raise UsdkslInputError(f"cannot read the stage: {_pxr_error_text(error)}", file=file) from None
+    if not sources:
+        what = "no UsdGeom.Mesh prims" if include is None else "no UsdGeom.Mesh prims match the selection"
+        raise UsdkslInputError(f"{what} on the stage", file=file)
+    return sources
+
+
+def _source_sample_times(sources: Sequence, file: str) -> List[np.ndarray]:
+    try:
+        return [np.asarray(sorted(source.sample_times()), dtype=np.float64) for source in sources]
+    except Tf.ErrorException as error:
+        raise UsdkslInputError(f"cannot read time samples: {_pxr_error_text(error)}",
+                               file=file) from None
+
+
+def shot_sample_times(path: Union[str, os.PathLike], include: IncludeFilter = None) -> List[np.ndarray]:
+    """float64[K_i] per mesh source of :func:`load_shot` (a skinned, authored or instanced mesh): the time
+    codes at which it has a sample, empty for a still one. Reads time samples only, never points, so it
+    is cheap on any cache. Raises UsdkslInputError like load_shot."""
+    file = os.fspath(path)
+    stage = open_stage(file)   # held while the sources' prims are read: they die with it
+    return _source_sample_times(_mesh_sources(stage, include, file, []), file)
 
 
 class _AuthoredMesh:

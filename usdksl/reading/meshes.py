@@ -62,6 +62,37 @@ class MeshData:
         return int(self.times.shape[0])
 
 
+#: Solid gprims that are not UsdGeom.Mesh (implicit surfaces, NURBS patches): surfaces a contact could be
+#: with, which usdksl does not tessellate. Curves and points are not surfaces and are not listed.
+UNMESHED_SOLIDS = ("Capsule", "Capsule_1", "Cone", "Cube", "Cylinder", "Cylinder_1", "Plane", "Sphere",
+                   "NurbsPatch")
+
+
+def unmeshed_solid_kind(prim: Usd.Prim) -> Optional[str]:
+    """The schema name (one of UNMESHED_SOLIDS) of a solid gprim that is not a mesh, else None."""
+    for name in UNMESHED_SOLIDS:
+        schema = getattr(UsdGeom, name, None)
+        if schema is not None and prim.IsA(schema):
+            return name
+    return None
+
+
+def rendered(prim: Usd.Prim) -> bool:
+    """Visible at the earliest time and not a guide: what a render (and usdksl's default scope) shows."""
+    imageable = UsdGeom.Imageable(prim)
+    return (imageable.ComputeVisibility(Usd.TimeCode.EarliestTime()) != UsdGeom.Tokens.invisible
+            and imageable.ComputePurpose() != UsdGeom.Tokens.guide)
+
+
+@dataclass(frozen=True)
+class UncheckedGeometry:
+    """Geometry on the stage that usdksl reads past without checking it (a nested PointInstancer's
+    instances): a warning by default, an input error under ``--strict``."""
+
+    prim: str
+    reason: str
+
+
 @dataclass(eq=False)
 class Shot:
     """A loaded stage: its meshes, the union of their sample times and its stage metadata."""
@@ -72,6 +103,7 @@ class Shot:
     metadata: Dict[str, object]
     stage: Usd.Stage = field(repr=False)
     warnings: List[str] = field(default_factory=list)   # one line each: skipped meshes, rescaled layers
+    unchecked: List[UncheckedGeometry] = field(default_factory=list)   # each also has a warning line
 
     def mesh(self, path: str) -> MeshData:
         for mesh in self.meshes:

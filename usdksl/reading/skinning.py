@@ -109,14 +109,15 @@ class SkinnedMesh:
             rest = read_local_points(file, path, points_attr, time, topology)
             if rest_constant and rest is not topology.first_local:
                 rest_constant = np.array_equal(rest, topology.first_local)
-            posed, matrix = self._posed(rest, time, file, matrices)
+            posed, matrix = self.posed(rest, time, file, matrices)
             to_world_checked(file, path, time, posed, matrix, points[k])
         moves_as_one = (self.uses_joints and self.skinning_query.IsRigidlyDeformed()
                         and self.blend_shapes is None and rest_constant)
         return classified_mesh(path, times, points, moves_as_one, topology)
 
-    def _posed(self, rest: np.ndarray, time: float, file: str, matrices: _MatrixCache):
-        """(points after blend shapes and skinning, float64[N, 3]; matrix taking them to world space)."""
+    def posed(self, rest: np.ndarray, time: float, file: str, matrices: _MatrixCache):
+        """(``rest`` points after blend shapes and skinning at ``time`` (time codes), float64[N, 3]; the
+        matrix taking them to world space)."""
         path = self.path
         points = Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(rest, dtype=np.float32))
         if self.blend_shapes is not None:

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Dict, Iterable, List, Optional, Sequence
 
-from ..baseline import baseline_for_shot
+from ..baseline import Baseline, baseline_for_shot
 from ..checking.pipeline import (WARNING, CheckOptions, CheckResult, Message, OutputTargets, check_shot,
                                  output_targets)
 from ..errors import UsdkslInputError, UsdkslUsageError
@@ -25,6 +25,7 @@ from ..reports.junit import error_suite, junit_document, shot_suite
 from ..reports.output import check_writable_directory, write_files
 from ..reports.override import shot_stem
 from ..stopping import deferred_stops
+from .batch_progress import BatchProgress
 
 #: Characters that make a shot argument a pattern to expand (a quoted glob the shell left alone).
 GLOB_CHARACTERS = "*?["
@@ -53,6 +54,8 @@ class ShotOutcome:
     result: Optional[CheckResult] = None
     error: Optional[str] = None
     messages: List[Message] = field(default_factory=list)
+    #: Time windows the shot was checked in on Dask (usdksl.scale.windows); 1: checked whole.
+    windows: int = 1
 
     def line(self) -> str:
         """The shot's line in a batch: its summary, or its error."""
@@ -115,12 +118,19 @@ def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str]
 
 def run_job(job: ShotJob, options: CheckOptions) -> ShotOutcome:
     """Check one shot; never raises (a failure is an outcome with exit code 2). Runs on Dask workers."""
+    return checked_outcome(job, lambda baseline: check_shot(job.path, options, job.targets, name=job.name,
+                                                             baseline=baseline))
+
+
+def checked_outcome(job: ShotJob, check: Callable[[Optional[Baseline]], CheckResult]) -> ShotOutcome:
+    """The outcome of ``check(baseline)`` for ``job`` (its baseline read first); never raises: bad input
+    or a crash is an outcome with exit code 2 and one line."""
     notes: List[Message] = []
     try:
         baseline, warning = baseline_for_shot(job.baseline, shot_stem(job.name), job.baseline_time_tolerance)
         if warning is not None:
             notes.append(Message(WARNING, warning))
-        result = check_shot(job.path, options, job.targets, name=job.name, baseline=baseline)
+        result = check(baseline)
     except UsdkslInputError as error:
         if error.file == job.path:
             error.file = job.name
@@ -147,10 +157,14 @@ def write_outcome(outcome: ShotOutcome) -> ShotOutcome:
     return outcome
 
 
-def run_here(jobs: Iterable[ShotJob], options: CheckOptions) -> Iterable[ShotOutcome]:
-    """The jobs one after the other in this process, in order."""
+def run_here(jobs: Iterable[ShotJob], options: CheckOptions,
+             progress: Optional[BatchProgress] = None) -> Iterable[ShotOutcome]:
+    """The jobs one after the other in this process, in order (one piece of ``progress`` each)."""
     for job in jobs:
-        yield run_job(job, options)
+        outcome = run_job(job, options)
+        if progress is not None:
+            progress.advance()
+        yield outcome
 
 
 def junit_for_outcomes(outcomes: Sequence[ShotOutcome]) -> str:
@@ -185,19 +199,23 @@ def total_line(outcomes: Sequence[ShotOutcome]) -> str:
 
 
 def run_batch(entries: Sequence[object], options: CheckOptions, runner: Callable = run_here,
-              on_outcome: Optional[Callable[[ShotOutcome], None]] = None) -> List[ShotOutcome]:
-    """Run every ShotJob of ``entries`` with ``runner(jobs, options)`` (an iterator of outcomes in any
-    order), write each shot's files as its outcome arrives, and return the outcomes in the order of
-    ``entries`` (failed entries of :func:`make_jobs` included). A stop (usdksl.stopping) ends the loop
-    between two shots: shots already handed to ``on_outcome`` are written, the others not."""
+              on_outcome: Optional[Callable[[ShotOutcome], None]] = None,
+              progress: Optional[BatchProgress] = None) -> List[ShotOutcome]:
+    """Run every ShotJob of ``entries`` with ``runner(jobs, options, progress=progress)`` (an iterator of
+    outcomes in any order, advancing ``progress`` a piece per shot or per time window), write each shot's
+    files as its outcome arrives, and return the outcomes in the order of ``entries`` (failed entries of
+    :func:`make_jobs` included; each is a piece done). A stop (usdksl.stopping) ends the loop between two
+    shots: shots already handed to ``on_outcome`` are written, the others not."""
     jobs = [entry for entry in entries if isinstance(entry, ShotJob)]
     done: Dict[str, ShotOutcome] = {}
     for entry in entries:
         if isinstance(entry, ShotOutcome):
             done[entry.name] = entry
+            if progress is not None:
+                progress.advance()
             if on_outcome is not None:
                 on_outcome(entry)
-    for outcome in runner(jobs, options):
+    for outcome in runner(jobs, options, progress=progress):
         with deferred_stops():   # a shot's files and its line come together, or neither does
             outcome = write_outcome(outcome)
             done[outcome.name] = outcome

@@ -37,6 +37,11 @@ BLOCKED_IN_WORKERS = {signal.SIGINT, signal.SIGTERM}
 ABANDON_TIMEOUT_SECONDS = 5
 
 
+def default_workers() -> int:
+    """Worker processes of ``--jobs`` without a count: one per core."""
+    return os.cpu_count() or 1
+
+
 @contextmanager
 def local_cluster_client(workers: Optional[int] = None) -> Iterator[object]:
     """A distributed Client on a new LocalCluster of ``workers`` (default: one per core) single-threaded
@@ -60,7 +65,7 @@ def local_cluster_client(workers: Optional[int] = None) -> Iterator[object]:
                                        dashboard_address=":0", silence_logs=logging.ERROR,
                                        local_directory=scratch)
             client = Client(cluster)   # before the workers: it would wait for them to start
-            cluster.scale(workers or os.cpu_count() or 1)
+            cluster.scale(workers or default_workers())
         yield client
     except Stopped:
         _abandon(cluster, client, children_before)

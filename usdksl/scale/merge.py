@@ -9,6 +9,10 @@ line) chunks that leave a gap, that overlap with different answers, that come fr
 root layer's SHA-256), another usdksl version, other settings or another set of checked mesh pairs,
 chunks cut between two time samples of a moving mesh (the chunk re-samples its motion there, so its
 times could differ in the last bits), and chunks that split at a topology change (checked per segment).
+
+The same joining serves the time windows of a long shot checked on Dask (usdksl.scale.windows): both are
+*parts* of one shot — a start, an end, the mesh pairs they checked and their contacts — and
+:func:`merge_parts` turns parts into the result of one check, with one code path for both.
 """
 
 from __future__ import annotations
@@ -19,26 +23,33 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..baseline import Baseline, compare
-from ..checking.pipeline import CheckOptions, CheckResult, OutputTargets, load_segments, render_files
-from ..clock import StageClock
+from ..baseline import Baseline
+from ..checking.pipeline import (CheckOptions, CheckResult, Message, OutputTargets, checked_span, conclude,
+                                 load_and_plan, message_collector, report_blowups)
 from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
-from ..exit_codes import CLEAN, CONTACTS_FOUND
 from ..reading.meshes import STATIC
-from ..reading.scope import ScopeOptions, include_predicate, plan_shot
 from ..reports.formats import read_contacts_table
 from ..reports.manifest import checked_pairs, file_sha256, manifest_name, read_manifest
 from ..reports.override import shot_stem
 
 
 class Chunk:
-    """One chunk folder: its manifest and (read on demand) its contacts over the shot's meshes."""
+    """One chunk folder: its manifest and (read on demand) its contacts over the shot's meshes.
+
+    A part for :func:`merge_parts`: ``start``/``end`` (time codes), ``checked_pairs``
+    (usdksl.reports.manifest.checked_pairs), ``where`` (what a refusal names), ``contacts(paths, stem)``."""
 
     def __init__(self, folder: Path, manifest: dict):
         self.folder = folder
         self.manifest = manifest
         self.start, self.end = (float(value) for value in manifest["time_range"])
+        self.checked_pairs = manifest.get("checked_pairs")
+        self.where = str(folder)
+
+    def contacts(self, paths: Sequence[str], stem: str) -> ContactTable:
+        """The chunk's contacts.csv over the meshes ``paths`` of the merged load."""
+        return read_contacts_table(self.folder / f"{stem}.contacts.csv", paths)
 
     def __repr__(self) -> str:
         return f"{self.folder} ({self.start:g}..{self.end:g})"
@@ -66,7 +77,7 @@ def read_chunks(shot: str, folders: Sequence[str]) -> List[Chunk]:
         if chunk.manifest.get("shot_sha256") != digest:
             raise UsdkslUsageError(f"cannot merge: chunk {chunk} was checked on another shot or another version "
                                    f"of {shot}", file=str(chunk.folder))
-        for key, what in (("version", "usdksl version"), ("checked_pairs", "set of checked mesh pairs")):
+        for key, what in (("version", "usdksl version"),):
             if chunk.manifest.get(key) != first.manifest.get(key):
                 raise UsdkslUsageError(f"cannot merge: chunks {first} and {chunk} differ in their {what}",
                                        file=str(chunk.folder))
@@ -77,23 +88,34 @@ def read_chunks(shot: str, folders: Sequence[str]) -> List[Chunk]:
             raise UsdkslUsageError(f"cannot merge: chunk {chunk} spans a topology change; check the shot whole",
                                    file=str(chunk.folder))
     chunks.sort(key=lambda chunk: (chunk.start, chunk.end))
-    reach = chunks[0].end
-    for previous, chunk in zip(chunks[:-1], chunks[1:]):
-        if chunk.start > reach:
-            raise UsdkslUsageError(f"cannot merge: nothing covers {reach:g}..{chunk.start:g} "
-                                   f"(gap before chunk {chunk})", file=str(chunk.folder))
-        reach = max(reach, chunk.end)
     return chunks
 
 
-def _require_cuts_on_samples(chunks: Sequence[Chunk], span: Tuple[float, float], shot) -> None:
-    """Refuse chunks cut between two time samples of a moving mesh: the chunk then moves it along a
-    different (re-sampled) line, and its contact times differ in the last bits from one run's."""
-    cuts = sorted({time for chunk in chunks for time in (chunk.start, chunk.end)} - {span[0], span[1]})
+def _require_consistent_parts(parts: Sequence) -> None:
+    """Refuse parts (sorted by start) that leave a gap or checked different mesh pairs."""
+    reach = parts[0].end
+    for part in parts[1:]:
+        if part.start > reach:
+            raise UsdkslUsageError(f"cannot merge: nothing covers {reach:g}..{part.start:g} "
+                                   f"(gap before chunk {part})", file=part.where)
+        reach = max(reach, part.end)
+    for part in parts[1:]:
+        if part.checked_pairs != parts[0].checked_pairs:
+            raise UsdkslUsageError(f"cannot merge: chunks {parts[0]} and {part} differ in their set of checked "
+                                   f"mesh pairs", file=part.where)
+
+
+def _require_cuts_on_samples(parts: Sequence, span: Tuple[float, float], shot, ends_given: bool) -> None:
+    """Refuse parts cut between two time samples of a moving mesh: the part then moves it along a
+    different (re-sampled) line, and its contact times differ in the last bits from one run's. The ends
+    of ``span`` are cuts too unless they are a given time range (which re-samples there in one run as well)."""
+    cuts = {time for part in parts for time in (part.start, part.end)}
+    if ends_given:
+        cuts -= {span[0], span[1]}
     for mesh in shot.meshes:
         if mesh.kind == STATIC:
             continue
-        off_sample = [cut for cut in cuts if not np.any(mesh.times == cut)]
+        off_sample = [cut for cut in sorted(cuts) if not np.any(mesh.times == cut)]
         if off_sample:
             raise UsdkslUsageError(f"cannot merge exactly: chunks are cut at time {off_sample[0]:g}, between two "
                                    f"time samples of {mesh.path}; cut chunks at sampled times", file=shot.path)
@@ -103,8 +125,8 @@ def _settings_but_range(manifest: dict) -> dict:
     return {key: value for key, value in manifest.get("settings", {}).items() if key != "time_range"}
 
 
-def check_overlap(earlier: Chunk, later: Chunk, first: ContactTable, second: ContactTable) -> None:
-    """Refuse two overlapping chunks whose answers on their common interval differ.
+def check_overlap(earlier, later, first: ContactTable, second: ContactTable) -> None:
+    """Refuse two overlapping parts (chunks or windows) whose answers on their common interval differ.
 
     ``earlier`` starts first. Inside the overlap (later.start, min(ends)) both saw the same motion: a first
     contact that ``earlier`` reports after later.start must be ``later``'s first contact at the same time,
@@ -126,11 +148,11 @@ def check_overlap(earlier: Chunk, later: Chunk, first: ContactTable, second: Con
     differs = inside & (time_in_second[ids_first] != first.time)
     if differs.any():
         raise UsdkslUsageError(f"cannot merge: chunks {earlier} and {later} overlap but disagree on a face pair "
-                               f"first touching at time {float(first.time[differs][0])!r}", file=str(later.folder))
+                               f"first touching at time {float(first.time[differs][0])!r}", file=later.where)
     missing = (second.time < overlap_end) & ~(time_in_first[ids_second] <= second.time)
     if missing.any():
         raise UsdkslUsageError(f"cannot merge: chunks {earlier} and {later} overlap but disagree on a face pair "
-                               f"touching at time {float(second.time[missing][0])!r}", file=str(later.folder))
+                               f"touching at time {float(second.time[missing][0])!r}", file=later.where)
 
 
 def merged_last_times(table: ContactTable, tables: Sequence[ContactTable], paths: Sequence[str]) -> np.ndarray:
@@ -162,42 +184,53 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
                            thickness=settings["thickness"], self_check=settings["self"], inter_check=settings["inter"],
                            time_range=span, prims=tuple(settings["prims"]), exclude=tuple(settings["exclude"]),
                            include_guides=settings["include_guides"], include_invisible=settings["include_invisible"],
-                           last_contact=settings.get("last_contact", False))
-    include, excluded = options.patterns()
-    predicate = include_predicate(include, excluded) if (include or excluded) else None
-    messages: List[str] = []
-    segments = load_segments(shot, span, predicate, lambda level, text: messages.append(text))
-    if len(segments) != 1:
-        raise UsdkslUsageError(f"cannot merge: the shot changes topology inside {span[0]:g}..{span[1]:g}; "
-                               f"check it whole", file=shot)
-    loaded = segments[0][1]
-    _require_cuts_on_samples(chunks, span, loaded)
-    plan = plan_shot(loaded, ScopeOptions(self_check=options.self_check, inter_check=options.inter_check,
-                                          include_guides=options.include_guides,
-                                          include_invisible=options.include_invisible), span)
-    if predicate is not None:
-        plan.excluded_paths = list(dict.fromkeys(predicate.rejected))
-    if checked_pairs(plan) != chunks[0].manifest["checked_pairs"]:
+                           rigid=settings.get("rigid", False), last_contact=settings.get("last_contact", False))
+    return merge_parts(shot, shot, options, targets, chunks, baseline, started=started)
+
+
+def merge_parts(shot: str, name: str, options: CheckOptions, targets: OutputTargets, parts: Sequence,
+                baseline: Optional[Baseline] = None, core_messages: Sequence[Message] = (),
+                counters: Optional[dict] = None, started: Optional[float] = None) -> CheckResult:
+    """What :func:`usdksl.checking.pipeline.check_shot` (``shot`` read, ``name`` reported) returns for
+    ``options``, from ``parts`` that cover its checked range: chunk folders (:class:`Chunk`) or Dask
+    windows (usdksl.scale.windows). Each part has ``start``, ``end``, ``checked_pairs``, ``where`` and
+    ``contacts(paths, stem)``. The shot is loaded once more over the whole range to plan and render it,
+    and says what check_shot says (plan lines, the loader's warnings, blow-ups), with ``core_messages``
+    (what the parts' core runs said) where check_shot says them and ``counters`` their work.
+    Raises UsdkslUsageError (one line) when the parts cannot be merged exactly."""
+    started = time.monotonic() if started is None else started
+    parts = sorted(parts, key=lambda part: (part.start, part.end))
+    _require_consistent_parts(parts)
+    messages: List[Message] = []
+    say = message_collector(messages)
+    planned = load_and_plan(shot, options, name, say)
+    if len(planned.segments) != 1:
+        raise UsdkslUsageError(f"cannot merge: the shot changes topology inside the checked range; "
+                               f"check it whole", file=name)
+    loaded = planned.segments[0][1]
+    report_blowups(planned.segments, planned.plans, name, say, options.strict)
+    span = checked_span(options, planned.segments)
+    if (parts[0].start, max(part.end for part in parts)) != tuple(span):
+        raise UsdkslUsageError(f"cannot merge: the parts cover {parts[0].start:g}..{max(p.end for p in parts):g}, "
+                               f"not the checked range {span[0]:g}..{span[1]:g}", file=name)
+    _require_cuts_on_samples(parts, span, loaded, ends_given=options.time_range is not None)
+    if checked_pairs(planned.plan) != parts[0].checked_pairs:
         raise UsdkslUsageError("cannot merge: the union of the chunks' ranges checks other mesh pairs than the "
-                               "chunks did (visibility changes between them); check the shot whole", file=shot)
+                               "chunks did (visibility changes between them); check the shot whole", file=name)
     paths = [mesh.path for mesh in loaded.meshes]
     stem = shot_stem(shot)
-    tables = [read_contacts_table(chunk.folder / f"{stem}.contacts.csv", paths) for chunk in chunks]
-    for i, earlier in enumerate(chunks):
-        for j in range(i + 1, len(chunks)):
-            check_overlap(earlier, chunks[j], tables[i], tables[j])
-    table = ContactTable.from_rows(paths, *(np.concatenate([getattr(t, name) for t in tables])
-                                            for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
+    tables = [part.contacts(paths, stem) for part in parts]
+    for i, earlier in enumerate(parts):
+        for j in range(i + 1, len(parts)):
+            check_overlap(earlier, parts[j], tables[i], tables[j])
+    table = ContactTable.from_rows(paths, *(np.concatenate([getattr(t, column) for t in tables])
+                                            for column in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
     if options.last_contact:
         table = table.with_last_times(merged_last_times(table, tables, paths))
-    comparison = None if baseline is None else compare(table, baseline)
-    exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
-    files, stdout = render_files(shot, shot, options, targets, segments, plan, [table], exit_code, span,
-                                 comparison=comparison)
-    return CheckResult(shot=shot, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
-                       seconds=time.monotonic() - started, counters={}, messages=[], files=files, stdout=stdout,
-                       segments=[(span, table)], clock=StageClock.from_metadata(loaded.metadata),
-                       baseline=comparison)
+    for message in core_messages:
+        say(message.level, message.text)
+    return conclude(shot, name, options, targets, planned, [table], span, dict(counters or {}), messages, say,
+                    baseline, started)
 
 
-__all__ = ["Chunk", "check_overlap", "merge_chunks", "read_chunks"]
+__all__ = ["Chunk", "check_overlap", "merge_chunks", "merge_parts", "read_chunks"]

@@ -1,4 +1,4 @@
-#include "usdksl/broad_phase/aabb_tree.hpp"
+#include "aabb_tree.hpp"
 
 #include "usdksl/constants.hpp"
 

@@ -1,6 +1,7 @@
 #include "usdksl/broad_phase/baselines.hpp"
 
-#include "usdksl/broad_phase/aabb_tree.hpp"
+#include "aabb_tree.hpp"
+
 #include "usdksl/broad_phase/sample_times.hpp"
 
 #include <memory>

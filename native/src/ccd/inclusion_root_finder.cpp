@@ -5,11 +5,15 @@
 /// exact image lies in the axis-aligned hull of its 8 corner values. Each
 /// corner is computed in floating point with a known error bound, so a box is
 /// discarded only when the hull, widened by that bound, misses the cube
-/// [-thickness, thickness]^3 on some axis: no root can hide there.
+/// [-thickness, thickness]^3 on some axis: no root can hide there. A box
+/// whose float hull on some axis lies within that bound of excluding it is
+/// decided again in exact arithmetic, so a near miss smaller than the
+/// rounding bound is not a contact.
 
-#include "usdksl/ccd/inclusion_root_finder.hpp"
+#include "inclusion_root_finder.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
+#include "usdksl/geometry/expansion_arithmetic.hpp"
 
 #include <Eigen/Geometry>
 
@@ -152,21 +156,28 @@ public:
         const std::array<int, 4> order =
             is_vertex_face_ ? face_corner_order(f) : std::array<int, 4>{0, 1, 2, 3};
         double max_abs[3] = {0.0, 0.0, 0.0};
+        bool finite = true;
         for (int i = 0; i < 4; ++i) {
             const int source = order[i];
             for (int k = 0; k < 3; ++k) {
                 start_[i][k] = f.at_start[source][k];
+                end_[i][k] = f.at_end[source][k];
                 displacement_[i][k] = f.at_end[source][k] - f.at_start[source][k];
                 max_abs[k] = std::max({max_abs[k], std::abs(f.at_start[source][k]),
                                        std::abs(f.at_end[source][k])});
+                finite = finite && std::isfinite(start_[i][k]) && std::isfinite(end_[i][k]);
             }
         }
-        const double thickness = std::max(settings.thickness, 0.0);
+        thickness_ = std::max(settings.thickness, 0.0);
+        const double thickness = thickness_;
         double error[3];
         for (int k = 0; k < 3; ++k) {
             error[k] = std::max(CCD_CORNER_ERROR_FACTOR * max_abs[k], CCD_MIN_ABSOLUTE_ERROR);
             bound_[k] = (thickness + error[k]) * CCD_BOUND_INFLATION;
+            exact_margin_[k] = EXACT_CHECK_ERROR_MULTIPLE * error[k];
         }
+        exact_possible_ = finite && std::isfinite(thickness) &&
+                          std::max({max_abs[0], max_abs[1], max_abs[2], thickness}) <= EXACT_CHECK_MAX_MAGNITUDE;
         choose_separating_directions(thickness, error, max_abs);
     }
 
@@ -221,6 +232,7 @@ public:
             axis_lo[k] = lo;
             axis_hi[k] = hi;
         }
+        if (excluded_exactly(box, axis_lo, axis_hi)) return Verdict::Excluded;
         if (inside) return Verdict::Inside;
         auto& projected = image.projected;
         if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
@@ -367,6 +379,32 @@ public:
                                     : INFINITY;
     }
 
+    /// True when a box the float corners (hull [axis_lo, axis_hi] per axis)
+    /// could not exclude is in fact excluded: on some axis every exact corner
+    /// value lies beyond the thickness (F is multilinear in (t,u,v), so its
+    /// exact image over the box lies in the hull of its exact corner values).
+    /// Only axes whose float hull lies within a few rounding bounds of
+    /// excluding are evaluated exactly; on any other axis exact values
+    /// cannot exclude either.
+    bool excluded_exactly(const ParameterBox& box, const double axis_lo[3], const double axis_hi[3]) const {
+        if (!exact_possible_) return false;
+        for (int k = 0; k < 3; ++k) {
+            const bool maybe_above = axis_lo[k] > thickness_ - exact_margin_[k];
+            const bool maybe_below = axis_hi[k] < -thickness_ + exact_margin_[k];
+            if (!maybe_above && !maybe_below) continue;
+            bool above = maybe_above, below = maybe_below;
+            for (int c = 0; c < 8 && (above || below); ++c) {
+                const double t = (c & 4) ? box.t_hi : box.t_lo;
+                const double u = (c & 2) ? box.u_hi : box.u_lo;
+                const double v = (c & 1) ? box.v_hi : box.v_lo;
+                if (above && exact_corner_sign(k, t, u, v, -1.0) <= 0) above = false;
+                if (below && exact_corner_sign(k, t, u, v, 1.0) >= 0) below = false;
+            }
+            if (above || below) return true;
+        }
+        return false;
+    }
+
     bool outside_domain(const ParameterBox& box) const {
         return is_vertex_face_ && box.u_lo + box.v_lo > 1.0;
     }
@@ -412,6 +450,33 @@ public:
     }
 
 private:
+    /// Exact sign of F_k(t,u,v) + offset_sign x (thickness + guard): with
+    /// offset_sign -1, positive means the corner lies beyond +thickness;
+    /// with +1, negative means beyond -thickness. Positions are the exact
+    /// linear interpolation s + t e - t s of the step's end points, and F =
+    /// (p[w+] - p[w-]) - u (p[e1+] - p[e1-]) - v (p[e2+] - p[e2-]), every
+    /// product an error-free transform. The guard CCD_MIN_ABSOLUTE_ERROR
+    /// covers products that underflow.
+    int exact_corner_sign(int k, double t, double u, double v, double offset_sign) const {
+        expansion::ExactSum sum;
+        const struct {
+            double coefficient;
+            int point;
+        } terms[6] = {{1.0, pairs_.w_plus},   {-1.0, pairs_.w_minus}, {-u, pairs_.e1_plus},
+                      {u, pairs_.e1_minus},   {-v, pairs_.e2_plus},   {v, pairs_.e2_minus}};
+        for (const auto& term : terms) {
+            const double c = term.coefficient;
+            if (c == 0.0) continue;
+            const double s = start_[term.point][k], e = end_[term.point][k];
+            sum.add_product(c, s);
+            sum.add_triple_product(c, t, e);
+            sum.add_triple_product(c, t, s, -1.0);
+        }
+        sum.add(offset_sign * thickness_);
+        sum.add(offset_sign * CCD_MIN_ABSOLUTE_ERROR);
+        return sum.sign();
+    }
+
     /// Intersects [lower[p], upper[p]] (fractions of the box along parameter
     /// p) with the range where constraint |g| <= bound can hold, g given by
     /// its 8 corner values (index it*4 + iu*2 + iv).
@@ -455,8 +520,12 @@ private:
     Direction directions_[MAX_DIRECTIONS];
     int direction_count_ = 0;
     double start_[4][3];
+    double end_[4][3];
     double displacement_[4][3];
     double bound_[3];
+    double exact_margin_[3];
+    double thickness_ = 0.0;
+    bool exact_possible_ = false;
     PairIndices pairs_;
     bool is_vertex_face_;
 };

@@ -3,7 +3,7 @@
 
 #include "usdksl/ccd/vertex_face_ccd.hpp"
 
-#include "usdksl/ccd/inclusion_root_finder.hpp"
+#include "inclusion_root_finder.hpp"
 
 namespace usdksl {
 

@@ -1,11 +1,12 @@
 #include "usdksl/collision/check.hpp"
 
+#include "raw_sample_confirmation.hpp"
+#include "time_windows.hpp"
+
 #include "usdksl/broad_phase/baselines.hpp"
-#include "usdksl/collision/raw_sample_confirmation.hpp"
-#include "usdksl/collision/scene.hpp"
-#include "usdksl/collision/time_windows.hpp"
-#include "usdksl/collision/triangle_pair_tester.hpp"
 #include "usdksl/kinetic/separation_list.hpp"
+#include "usdksl/scene/scene.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -13,6 +14,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -244,16 +246,41 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         raw_scene = std::make_unique<Scene>(meshes, kinds);
     }
     // The discrete baseline answers at sampled instants; it stays what it is, misses included.
-    const bool confirm = options.method != Method::Discrete;
-    parallel_for(threads, static_cast<int32_t>(count), [&](int32_t w) {
-        if (!confirm || !raw_scene) {
-            confirmed[w] = candidates[w];
-            return;
+    const bool confirm = options.method != Method::Discrete && raw_scene;
+    if (!confirm) {
+        confirmed = candidates;
+    } else {
+        // Windows are confirmed in time order, each over all threads: a pair
+        // confirmed in an earlier window needs no confirming in a later one
+        // (merging keeps the earliest), where a contact that lasts, such as
+        // cloth resting on a table, would otherwise be confirmed again.
+        std::set<std::tuple<int32_t, int32_t, int32_t, int32_t>> confirmed_pairs;
+        for (size_t w = 0; w < count; ++w) {
+            std::vector<Contact> open;
+            for (const Contact& c : candidates[w]) {
+                if (!confirmed_pairs.count({c.mesh_a, c.tri_a, c.mesh_b, c.tri_b})) open.push_back(c);
+            }
+            const int32_t chunks = static_cast<int32_t>(std::min<size_t>(static_cast<size_t>(threads), open.size()));
+            std::vector<std::vector<Contact>> parts(static_cast<size_t>(chunks));
+            std::vector<Counters> part_counters(static_cast<size_t>(chunks));
+            parallel_for(threads, chunks, [&](int32_t k) {
+                std::vector<Contact> share;
+                for (size_t i = static_cast<size_t>(k); i < open.size(); i += static_cast<size_t>(chunks)) {
+                    share.push_back(open[i]);
+                }
+                const Scene raw_local(*raw_scene);
+                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, windows[w].begin, windows[w].end,
+                                                part_counters[k], progress.for_window(w));
+            });
+            for (int32_t k = 0; k < chunks; ++k) {
+                add_counters(counters[w], part_counters[k]);
+                for (const Contact& c : parts[k]) {
+                    confirmed_pairs.insert({c.mesh_a, c.tri_a, c.mesh_b, c.tri_b});
+                    confirmed[w].push_back(c);
+                }
+            }
         }
-        const Scene raw_local(*raw_scene);
-        confirmed[w] = confirm_on_raw_scene(raw_local, candidates[w], options.ccd, windows[w].begin, windows[w].end,
-                                            counters[w], progress.for_window(static_cast<size_t>(w)));
-    });
+    }
     for (const Counters& c : counters) add_counters(result.counters, c);
     result.contacts = merge_windows(confirmed);
     return result;

@@ -1,7 +1,7 @@
-#include "usdksl/collision/raw_sample_confirmation.hpp"
+#include "raw_sample_confirmation.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
-#include "usdksl/collision/triangle_pair_tester.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <algorithm>
 

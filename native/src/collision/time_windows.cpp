@@ -1,4 +1,4 @@
-#include "usdksl/collision/time_windows.hpp"
+#include "time_windows.hpp"
 
 #include "usdksl/broad_phase/sample_times.hpp"
 
@@ -12,7 +12,7 @@ std::vector<TimeWindow> split_into_windows(const Scene& scene,
     const std::vector<double> times = merged_sample_times(scene, mesh_pairs, t_begin, t_end);
     // times holds t_begin, t_end and every sample strictly between them.
     const int64_t inner = static_cast<int64_t>(times.size()) - 2;
-    count = static_cast<int32_t>(std::min<int64_t>(count, inner + 1));
+    count = static_cast<int32_t>(std::min<int64_t>(count, (inner + 1) / MIN_SAMPLE_STEPS_PER_WINDOW));
     if (count <= 1) return {TimeWindow{t_begin, t_end}};
 
     // How many flightplan breakpoints fall on each sample time.

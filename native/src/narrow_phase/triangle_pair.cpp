@@ -7,9 +7,9 @@
 
 #include "usdksl/ccd/ccd_constants.hpp"
 #include "usdksl/ccd/edge_edge_ccd.hpp"
-#include "usdksl/ccd/exact_geometry.hpp"
-#include "usdksl/ccd/primitive_distance.hpp"
-#include "usdksl/ccd/triangle_triangle_static.hpp"
+#include "usdksl/geometry/exact_geometry.hpp"
+#include "usdksl/geometry/primitive_distance.hpp"
+#include "usdksl/geometry/triangle_triangle_static.hpp"
 #include "usdksl/ccd/vertex_face_ccd.hpp"
 
 #include <algorithm>

@@ -3,9 +3,9 @@
 /// @brief The methods KSL is measured against: swept-volume BVH, discrete
 ///        per-sample checks, and the brute-force reference.
 
-#include "usdksl/collision/check.hpp"
-#include "usdksl/collision/scene.hpp"
-#include "usdksl/collision/triangle_pair_tester.hpp"
+#include "usdksl/scene/check_options.hpp"
+#include "usdksl/scene/scene.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <cstdint>
 #include <utility>

@@ -2,7 +2,7 @@
 /// @file sample_times.hpp
 /// @brief The time axis the per-interval baselines step along.
 
-#include "usdksl/collision/scene.hpp"
+#include "usdksl/scene/scene.hpp"
 
 #include <cstdint>
 #include <utility>

@@ -2,10 +2,9 @@
 /// @file ccd_constants.hpp
 /// @brief Floating-point error bounds of the narrow phase, named in one place.
 
-namespace usdksl {
+#include "usdksl/geometry/rounding.hpp"
 
-/// @brief Unit roundoff of IEEE double (2^-53), dimensionless.
-constexpr double DOUBLE_UNIT_ROUNDOFF = 1.1102230246251565e-16;
+namespace usdksl {
 
 /// @brief Bound, in multiples of (unit roundoff x largest absolute input
 ///        coordinate on the same axis), on the rounding error of one corner
@@ -19,14 +18,24 @@ constexpr double CCD_CORNER_ERROR_FACTOR = 64.0 * DOUBLE_UNIT_ROUNDOFF;
 ///        that all-zero inputs and subnormal round-off stay conservative.
 constexpr double CCD_MIN_ABSOLUTE_ERROR = 1e-300;
 
+/// @brief A parameter box the float corner test cannot exclude is decided in
+///        exact arithmetic when, on some axis, its float corner values all
+///        lie within this many
+///        corner error bounds (CCD_CORNER_ERROR_FACTOR x magnitude) of the
+///        far side of the thickness: only there can exact values exclude it
+///        where the float bound could not (dimensionless; 2 covers the
+///        rounding of the comparison itself).
+constexpr double EXACT_CHECK_ERROR_MULTIPLE = 2.0;
+
+/// @brief Largest input coordinate or thickness (scene units) for which the
+///        exact check runs: products of three such numbers stay far from
+///        overflow in the error-free transforms. Larger inputs keep the
+///        conservative float answer.
+constexpr double EXACT_CHECK_MAX_MAGNITUDE = 1e100;
+
 /// @brief Relative inflation applied to (thickness + error bound) so the
 ///        rounding of that sum itself cannot reject a true contact.
 constexpr double CCD_BOUND_INFLATION = 1.0 + 8.0 * DOUBLE_UNIT_ROUNDOFF;
-
-/// @brief Relative slack (to the largest absolute coordinate) added to
-///        thickness in the static distance tests, covering the rounding of
-///        closest-point computations; errs toward reporting contact.
-constexpr double STATIC_DISTANCE_RELATIVE_SLACK = 1e-12;
 
 /// @brief Factors applied to a clipped box's cut points (fractions of the
 ///        box along one parameter) before they become parameter values: the

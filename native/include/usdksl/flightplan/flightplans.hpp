@@ -2,7 +2,7 @@
 /// @file flightplans.hpp
 /// @brief Piecewise-linear vertex trajectories of one mesh, stored per vertex.
 
-#include "usdksl/collision/mesh_animation.hpp"
+#include "usdksl/mesh_animation.hpp"
 #include "usdksl/types.hpp"
 
 #include <cstdint>

@@ -3,11 +3,11 @@
 /// @brief Kinetic separation lists (paper section 5): the BVTT front of every
 ///        checked mesh pair (or mesh against itself), kept valid step by step.
 
-#include "usdksl/collision/check.hpp"
-#include "usdksl/collision/pair_clearance.hpp"
-#include "usdksl/collision/scene.hpp"
-#include "usdksl/collision/triangle_pair_tester.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
+#include "usdksl/narrow_phase/pair_clearance.hpp"
+#include "usdksl/scene/check_options.hpp"
+#include "usdksl/scene/scene.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <cstdint>
 #include <memory>

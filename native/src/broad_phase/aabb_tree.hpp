@@ -4,7 +4,7 @@
 ///        that the swept-volume and discrete baselines share.
 
 #include "usdksl/broad_phase/bvh_topology.hpp"
-#include "usdksl/collision/scene.hpp"
+#include "usdksl/scene/scene.hpp"
 
 #include <cstdint>
 #include <functional>

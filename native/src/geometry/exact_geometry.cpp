@@ -8,9 +8,9 @@
 /// input) all three projections must agree, which is still exact because at
 /// least one of them is injective on the common line or plane.
 
-#include "usdksl/ccd/exact_geometry.hpp"
+#include "usdksl/geometry/exact_geometry.hpp"
 
-#include "usdksl/ccd/exact_predicates.hpp"
+#include "usdksl/geometry/exact_predicates.hpp"
 
 #include <algorithm>
 

@@ -4,10 +4,10 @@
 ///        steps and keeps the first contact of each pair.
 
 #include "usdksl/ccd/ccd_settings.hpp"
-#include "usdksl/collision/contact.hpp"
-#include "usdksl/collision/counters.hpp"
-#include "usdksl/collision/pair_clearance.hpp"
-#include "usdksl/collision/scene.hpp"
+#include "usdksl/narrow_phase/pair_clearance.hpp"
+#include "usdksl/scene/contact.hpp"
+#include "usdksl/scene/counters.hpp"
+#include "usdksl/scene/scene.hpp"
 
 #include <cstdint>
 #include <unordered_map>

@@ -38,7 +38,11 @@ struct MultilinearDistance {
 ///        same spatial resolution (see parameter_tolerances). Conservative:
 ///        boxes are only discarded, and only clipped, where their corner
 ///        values, inflated by a rounding-error bound derived from the input
-///        magnitude, rule out the thickness cube or a separating slab. For
+///        magnitude, rule out the thickness cube or a separating slab, or
+///        where their exact corner values (error-free arithmetic, tried only
+///        when the float hull lies within that bound of the cube) rule out
+///        the cube on some axis: a near miss closer than the rounding bound
+///        is not a contact, a touch at distance exactly thickness is. For
 ///        vertex-face pairs the root search picks which face corner is the
 ///        (u,v) origin (the face is the same point set either way).
 CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,

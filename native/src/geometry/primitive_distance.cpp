@@ -2,7 +2,7 @@
 /// @brief Closest-point distances; every candidate configuration is tried so
 ///        degenerate shapes (parallel, zero length, zero area) need no branch.
 
-#include "usdksl/ccd/primitive_distance.hpp"
+#include "usdksl/geometry/primitive_distance.hpp"
 
 #include <Eigen/Geometry>
 

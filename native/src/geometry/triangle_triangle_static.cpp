@@ -1,11 +1,11 @@
 /// @file triangle_triangle_static.cpp
 /// @brief Two closed triangles at one instant: exact incidence, then distances.
 
-#include "usdksl/ccd/triangle_triangle_static.hpp"
+#include "usdksl/geometry/triangle_triangle_static.hpp"
 
-#include "usdksl/ccd/ccd_constants.hpp"
-#include "usdksl/ccd/exact_geometry.hpp"
-#include "usdksl/ccd/primitive_distance.hpp"
+#include "usdksl/geometry/exact_geometry.hpp"
+#include "usdksl/geometry/primitive_distance.hpp"
+#include "usdksl/geometry/rounding.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,10 +2,11 @@
 /// @brief Orientation predicates: a static floating-point filter, and an exact
 ///        expansion sum of the determinant's monomials when the filter fails.
 
-#include "usdksl/ccd/exact_predicates.hpp"
+#include "usdksl/geometry/exact_predicates.hpp"
 
-#include "usdksl/ccd/ccd_constants.hpp"
-#include "usdksl/ccd/expansion_arithmetic.hpp"
+#include "usdksl/geometry/expansion_arithmetic.hpp"
+
+#include "usdksl/geometry/rounding.hpp"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
-#include "usdksl/collision/pair_clearance.hpp"
+#include "usdksl/narrow_phase/pair_clearance.hpp"
 
-#include "usdksl/ccd/primitive_distance.hpp"
+#include "usdksl/geometry/primitive_distance.hpp"
 
 #include <algorithm>
 #include <cmath>

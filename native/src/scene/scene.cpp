@@ -1,4 +1,4 @@
-#include "usdksl/collision/scene.hpp"
+#include "usdksl/scene/scene.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -2,7 +2,7 @@
 /// @file scene.hpp
 /// @brief The meshes of one check with their flightplans, shared by every method.
 
-#include "usdksl/collision/mesh_animation.hpp"
+#include "usdksl/mesh_animation.hpp"
 #include "usdksl/flightplan/flightplans.hpp"
 
 #include <array>

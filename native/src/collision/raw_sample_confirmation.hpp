@@ -5,10 +5,10 @@
 ///        trajectories come within the user's thickness.
 
 #include "usdksl/ccd/ccd_settings.hpp"
-#include "usdksl/collision/contact.hpp"
-#include "usdksl/collision/counters.hpp"
 #include "usdksl/collision/check.hpp"
-#include "usdksl/collision/scene.hpp"
+#include "usdksl/scene/contact.hpp"
+#include "usdksl/scene/counters.hpp"
+#include "usdksl/scene/scene.hpp"
 
 #include <vector>
 

@@ -1,4 +1,4 @@
-#include "usdksl/collision/triangle_pair_tester.hpp"
+#include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 

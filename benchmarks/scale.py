@@ -1,0 +1,157 @@
+"""How `usdksl check` scales with the cloth's size: generated tablecloths of 10k, 100k and 1M faces.
+
+    python benchmarks/scale.py                          # 10k, 100k, 1M faces, 10 samples each
+    python benchmarks/scale.py --faces 10000 100000 --threads 1 --markdown benchmarks/results/scale.md
+
+Each shot is made once by ``samples/generate.py tablecloth --faces N --keyframes 10
+--samples-per-keyframe 1`` (10 samples, into samples/generated/) and checked by the ``usdksl check``
+command end to end, one process per shot, so its peak resident memory is its own. Printed per shot:
+wall and CPU seconds, CPU microseconds per face and its ratio to the smallest shot (issue 19's target:
+at most 2x at 1M faces), face pairs in contact per face (the answer grows with the cloth's resolution:
+finer wrinkles touch more), peak memory, and bytes per triangle sample above :data:`MEMORY_BASE_MB`
+against :data:`MEMORY_BUDGET_PER_TRIANGLE_SAMPLE`. The machine is shared and has 2 cores: compare the ratios of
+one run, not seconds across runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from typing import Dict, List, Optional
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+
+#: Faces of the default shots.
+DEFAULT_FACES = (10_000, 100_000, 1_000_000)
+#: Samples per shot (keyframes at every sample: the flightplans have a breakpoint at each).
+SAMPLES = 10
+#: Peak resident memory of a check that has loaded nothing: interpreter, USD, numpy, the native module
+#: (a 2k-face shot peaks at about 160 MB).
+MEMORY_BASE_MB = 256
+#: Most bytes of peak resident memory per triangle sample (triangles x samples of every mesh, static
+#: ones included) above MEMORY_BASE_MB, single thread (each thread's time window has its own trees).
+MEMORY_BUDGET_PER_TRIANGLE_SAMPLE = 1024
+#: Largest CPU time per face at the biggest shot, relative to the smallest (issue 19's target).
+TIME_PER_FACE_TARGET = 2.0
+
+#: Runs the command in argv[1:] and prints its exit code, CPU seconds and peak resident kB as JSON: the
+#: only child of this process, so RUSAGE_CHILDREN's ru_maxrss is that command's own peak.
+_MEASURE = (
+    "import json, resource, subprocess, sys\n"
+    "completed = subprocess.run(sys.argv[1:], capture_output=True, text=True)\n"
+    "usage = resource.getrusage(resource.RUSAGE_CHILDREN)\n"
+    "print(json.dumps({'exit_code': completed.returncode, 'cpu_s': usage.ru_utime + usage.ru_stime,\n"
+    "                  'peak_kb': usage.ru_maxrss, 'stderr': completed.stderr[-2000:]}))\n"
+)
+
+
+def shot_path(faces: int) -> str:
+    return os.path.join(REPO, "samples", "generated", f"tablecloth_{faces}_s{SAMPLES}.usdc")
+
+
+def make_shot(faces: int) -> str:
+    path = shot_path(faces)
+    if not os.path.exists(path):
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        subprocess.run([sys.executable, os.path.join(REPO, "samples", "generate.py"), "tablecloth",
+                        "--faces", str(faces), "--keyframes", str(SAMPLES), "--samples-per-keyframe", "1",
+                        "--out", path], check=True, capture_output=True)
+    return path
+
+
+def shot_size(path: str) -> Dict[str, int]:
+    """Triangles (all meshes) and samples of the shot, as the check loads it."""
+    import usdksl
+
+    shot = usdksl.load_shot(path)
+    triangles = int(sum(len(mesh.triangles) for mesh in shot.meshes))
+    return {"triangles": triangles, "samples": int(len(shot.times)),
+            "triangle_samples": int(sum(len(mesh.triangles) * len(mesh.times) for mesh in shot.meshes))}
+
+
+def _usdksl_executable() -> str:
+    candidate = os.path.join(os.path.dirname(sys.executable), "usdksl")
+    return candidate if os.path.exists(candidate) else "usdksl"
+
+
+def measure(path: str, threads: Optional[int], budget_s: float) -> Dict:
+    with tempfile.TemporaryDirectory(prefix="usdksl-scale-") as out_dir:
+        command = [_usdksl_executable(), "check", path, "--out", out_dir, "-q"]
+        if threads:
+            command += ["--threads", str(threads)]
+        started = time.perf_counter()
+        try:
+            completed = subprocess.run([sys.executable, "-c", _MEASURE] + command, capture_output=True,
+                                       text=True, timeout=budget_s)
+        except subprocess.TimeoutExpired:
+            return {"skipped": f"over the {budget_s:g} s budget"}
+        wall = time.perf_counter() - started
+        record = json.loads(completed.stdout.strip().splitlines()[-1])
+        contacts = [name for name in os.listdir(out_dir) if name.endswith(".contacts.csv")]
+        if contacts:
+            with open(os.path.join(out_dir, contacts[0])) as stream:
+                record["face_pairs"] = sum(1 for _ in stream) - 1
+        else:
+            record["face_pairs"] = 0
+    record["wall_s"] = wall
+    if record["exit_code"] not in (0, 1):
+        raise RuntimeError(f"usdksl check exited {record['exit_code']} on {path}: {record['stderr'][-300:]}")
+    return record
+
+
+def render(rows: List[Dict], threads: Optional[int]) -> str:
+    base = next((row for row in rows if "cpu_s" in row), None)
+    lines = [f"usdksl check on generated tablecloths ({SAMPLES} samples), threads={threads or 'all'}, "
+             f"load average {os.getloadavg()[0]:.2f}",
+             "",
+             "| faces | triangles x samples | wall s | CPU s | CPU us/face | per face vs smallest | contacts/face | "
+             "peak MB | B/triangle sample above base | within budget |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for row in rows:
+        if "cpu_s" not in row:
+            lines.append(f"| {row['faces']} | {row['triangles']} x {row['samples']} | {row['skipped']} | | | | | | | |")
+            continue
+        per_face = row["cpu_s"] / row["faces"] * 1e6
+        ratio = per_face / (base["cpu_s"] / base["faces"] * 1e6)
+        bytes_per = max(0.0, row["peak_kb"] / 1024 - MEMORY_BASE_MB) * 2**20 / row["triangle_samples"]
+        lines.append(f"| {row['faces']} | {row['triangles']} x {row['samples']} | {row['wall_s']:.1f} | "
+                     f"{row['cpu_s']:.1f} | {per_face:.1f} | {ratio:.2f} | {row['face_pairs'] / row['faces']:.2f} | "
+                     f"{row['peak_kb'] / 1024:.0f} | "
+                     f"{bytes_per:.0f} | {'yes' if bytes_per <= MEMORY_BUDGET_PER_TRIANGLE_SAMPLE else 'NO'} |")
+    lines += ["", f"Targets: CPU per face at the largest shot <= {TIME_PER_FACE_TARGET:g}x the smallest's; peak "
+              f"memory <= {MEMORY_BASE_MB} MB + {MEMORY_BUDGET_PER_TRIANGLE_SAMPLE} B per triangle sample."]
+    return "\n".join(lines)
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--faces", type=int, nargs="+", default=list(DEFAULT_FACES))
+    parser.add_argument("--threads", type=int, default=1, help="threads of the core (0: all cores)")
+    parser.add_argument("--budget", type=float, default=3600.0, help="wall seconds per shot")
+    parser.add_argument("--markdown", help="also write the table to this file")
+    args = parser.parse_args(argv)
+    rows = []
+    for faces in sorted(args.faces):
+        path = make_shot(faces)
+        row = {"faces": faces, **shot_size(path)}
+        row.update(measure(path, args.threads or None, args.budget))
+        rows.append(row)
+        print(json.dumps({k: v for k, v in row.items() if k != "stderr"}), flush=True)
+    table = render(rows, args.threads or None)
+    print(table)
+    if args.markdown:
+        with open(args.markdown, "w") as stream:
+            stream.write(f"# Scale\n\nCommand: `python benchmarks/scale.py {' '.join(argv or sys.argv[1:])}`\n\n"
+                         + table + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

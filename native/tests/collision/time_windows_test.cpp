@@ -1,0 +1,49 @@
+/// @file time_windows_test.cpp
+/// @brief Time windows for threads: contiguous cover of the range, cut at
+///        sample times, never shorter on average than
+///        MIN_SAMPLE_STEPS_PER_WINDOW sample steps.
+
+#include "../../src/collision/time_windows.hpp"
+#include "animations.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace usdksl;
+
+namespace {
+
+std::vector<TimeWindow> windows_of(int samples, int32_t count) {
+    const std::vector<MeshAnimation> meshes{animations::folding_cloth(4, samples)};
+    const Scene scene(meshes, false);
+    return split_into_windows(scene, {{0, 0}}, 0.0, samples - 1.0, count);
+}
+
+} // namespace
+
+TEST(TimeWindows, ShortShotsStayOneWindow) {
+    // 10 sample steps hold one window of MIN_SAMPLE_STEPS_PER_WINDOW steps.
+    EXPECT_EQ(windows_of(11, 8).size(), 1u);
+}
+
+TEST(TimeWindows, LongShotsGetOneWindowPerMinimumSpanAtMost) {
+    const int samples = 33;   // 32 steps
+    const auto windows = windows_of(samples, 64);
+    EXPECT_EQ(static_cast<int64_t>(windows.size()), 32 / MIN_SAMPLE_STEPS_PER_WINDOW);
+    EXPECT_EQ(windows.front().begin, 0.0);
+    EXPECT_EQ(windows.back().end, samples - 1.0);
+    for (size_t w = 0; w < windows.size(); ++w) {
+        EXPECT_LT(windows[w].begin, windows[w].end);
+        EXPECT_EQ(windows[w].begin, std::floor(windows[w].begin)) << "cut at a sample time";
+        if (w > 0) {
+            EXPECT_EQ(windows[w].begin, windows[w - 1].end) << "contiguous";
+        }
+    }
+}
+
+TEST(TimeWindows, FewerRequestedThanTheMinimumAllowsGivesTheRequestedCount) {
+    EXPECT_EQ(windows_of(101, 3).size(), 3u);
+    EXPECT_EQ(windows_of(101, 1).size(), 1u);
+}
