@@ -2,6 +2,8 @@
 
 #include "usdksl/geometry/primitive_distance.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +15,23 @@ bool holds_vertex(const Triangle& ids, int32_t v) { return ids[0] == v || ids[1]
 
 bool edges_share_vertex(int32_t e0, int32_t e1, int32_t f0, int32_t f1) {
     return e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1;
+}
+
+/// Diagonal of the axis-aligned box of the six vertices: at least their diameter.
+double box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+    Vec3 lo = a[0], hi = a[0];
+    for (int i = 0; i < 3; ++i) {
+        lo = lo.cwiseMin(a[i]).cwiseMin(b[i]);
+        hi = hi.cwiseMax(a[i]).cwiseMax(b[i]);
+    }
+    return (hi - lo).norm();
+}
+
+/// Smallest height of B's vertices minus the largest of A's along `normal`.
+double plane_gap(const Vec3& normal, const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+    const double top_a = std::max({normal.dot(a[0]), normal.dot(a[1]), normal.dot(a[2])});
+    const double bottom_b = std::min({normal.dot(b[0]), normal.dot(b[1]), normal.dot(b[2])});
+    return bottom_b - top_a;
 }
 
 double largest_coordinate(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
@@ -47,10 +66,34 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
         relative_start_[i] = p - a[0];
         for (int j = 0; j < i; ++j) diameter_ = std::max(diameter_, (p - (j < 3 ? a[j] : b[j - 3])).norm());
     }
-    contact_distance_ = contact_distance;
+    contact_distance_ = PAIR_CLEARANCE_CONTACT_REACH * contact_distance;
     size_fraction_ = std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
     magnitude_ = largest_coordinate(a, b);
     drift_ = 0.0;
+    drift_holds_ = true;
+    plane_holds_ = false;
+    bool shared = false;
+    for (int32_t v : ids_a) shared = shared || (same_mesh && holds_vertex(ids_b, v));
+    if (shared) return;  // the plane of either triangle passes through the shared vertex
+    double best = -std::numeric_limits<double>::infinity();
+    for (const std::array<Vec3, 3>* t : {&a, &b}) {
+        const Vec3 cross = ((*t)[1] - (*t)[0]).cross((*t)[2] - (*t)[0]);
+        const double length = cross.norm();
+        if (!(length > 0.0)) continue;
+        for (double side : {1.0, -1.0}) {
+            const Vec3 normal = cross * (side / length);
+            const double gap = plane_gap(normal, a, b);
+            if (gap > best) {
+                best = gap;
+                normal_ = normal;
+            }
+        }
+    }
+    plane_holds_ = best > plane_reach(a, b);
+}
+
+double PairClearance::plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {
+    return contact_distance_ + size_fraction_ * box_diagonal(a, b) + PAIR_CLEARANCE_ROUNDING * magnitude_;
 }
 
 bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
@@ -61,7 +104,9 @@ bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3
     magnitude_ = std::max(magnitude_, largest_coordinate(a, b));
     const double reach = contact_distance_ + size_fraction_ * (diameter_ + 2.0 * drift_) +
                          PAIR_CLEARANCE_ROUNDING * magnitude_;
-    return distance_ - drift_ > reach;
+    drift_holds_ = drift_holds_ && distance_ - drift_ > reach;
+    plane_holds_ = plane_holds_ && plane_gap(normal_, a, b) > plane_reach(a, b);
+    return drift_holds_ || plane_holds_;
 }
 
 } // namespace usdksl

@@ -123,7 +123,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
     for (int i = 0; i < 6; ++i) {
         plans[i] = &scene_.plans[i < 3 ? mesh_a : mesh_b];
         vertex[i] = i < 3 ? ids_a[i] : ids_b[i - 3];
-        segment[i] = plans[i]->peek_segment(vertex[i], from);
+        segment[i] = plans[i]->segment_of(vertex[i], from);
     }
     // A clearance certificate skips steps on which the pair provably stays
     // out of reach; one that fails at once backs off for a few steps, so a

@@ -25,6 +25,13 @@ constexpr double PAIR_CLEARANCE_SIZE_FRACTION = 1.0 / 1024.0;
 ///        can report a contact up to about 8 tau times the pair's size away.
 constexpr double PAIR_CLEARANCE_TOLERANCE_FACTOR = 64.0;
 
+/// @brief How far (in multiples of the contact distance, Euclidean) the narrow
+///        phase may report a contact: it looks for the difference of two
+///        primitive points within the contact distance on every axis (a cube,
+///        whose corners lie sqrt(3) times as far), so a certificate must keep
+///        the pair farther than that. sqrt(3) rounded up.
+constexpr double PAIR_CLEARANCE_CONTACT_REACH = 2.0;
+
 /// @brief Rounding allowance relative to the largest absolute coordinate seen.
 constexpr double PAIR_CLEARANCE_ROUNDING = 1e-9;
 
@@ -38,6 +45,15 @@ constexpr double PAIR_CLEARANCE_ROUNDING = 1e-9;
 ///        move no farther than their corners). Positions are piecewise linear
 ///        between breakpoints, so the drift's maximum over a step is at one
 ///        of its ends.
+///
+///        Triangles that share no vertex also get a separating plane, the
+///        plane of either triangle that leaves the wider gap: while every
+///        vertex of B stays on its side by more than the reach, no point of B
+///        comes within reach of A, however far the two slide along the plane
+///        (cards on a pile, cloth on a body). Along a fixed direction the gap
+///        is the smallest of B's heights minus the largest of A's, concave
+///        across a step, so it too is smallest at a step's ends. The pair is
+///        cleared while either proof holds.
 class PairClearance {
 public:
     /// @brief Starts at the positions of both triangles at one instant.
@@ -50,13 +66,20 @@ public:
     bool holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
 private:
+    /// Contact distance plus the narrow phase's margin for the six vertices'
+    /// size and rounding, at positions a and b.
+    double plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const;
+
     std::array<Vec3, 6> relative_start_;  // vertices minus A's first vertex at the start
     double distance_ = 0.0;               // smallest tested primitive distance at the start
     double diameter_ = 0.0;               // of the six vertices at the start
-    double contact_distance_ = 0.0;
+    double contact_distance_ = 0.0;       // scene units, times PAIR_CLEARANCE_CONTACT_REACH
     double size_fraction_ = 0.0;
     double magnitude_ = 0.0;              // largest absolute coordinate seen
     double drift_ = 0.0;
+    bool drift_holds_ = false;
+    Vec3 normal_ = Vec3::Zero();  // unit; B lies above A along it while plane_holds_
+    bool plane_holds_ = false;
 };
 
 /// @brief A clearance certificate with its back-off, carried over consecutive

@@ -1,0 +1,89 @@
+/// @file pair_clearance_test.cpp
+/// @brief The clearance certificate clears only steps the narrow phase answers
+///        "no contact" on, with and without thickness; its separating plane
+///        keeps a pair sliding along another cleared however far it slides.
+
+#include "usdksl/narrow_phase/pair_clearance.hpp"
+#include "usdksl/narrow_phase/triangle_pair.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <random>
+
+using namespace usdksl;
+
+namespace {
+
+using Positions = std::array<Vec3, 3>;
+
+Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
+
+} // namespace
+
+TEST(PairClearance, ACardSlidingOverAnotherStaysClearedByTheSeparatingPlane) {
+    const Triangle ids_a{0, 1, 2}, ids_b{0, 1, 2};
+    const Positions floor{Vec3(-2, -2, 0), Vec3(2, -2, 0), Vec3(0, 2, 0)};
+    const Positions card{Vec3(-1, -1, 0.05), Vec3(0, -1, 0.05), Vec3(-1, 0, 0.05)};
+    const double thickness = 0.002;
+    PairClearance clearance;
+    clearance.start(ids_a, floor, ids_b, card, false, thickness, DEFAULT_CCD_TOLERANCE);
+    // Each step slides the card 0.3 along the floor: 6 times its height above it.
+    for (int step = 1; step <= 8; ++step) {
+        EXPECT_TRUE(clearance.holds_at(floor, shifted(card, Vec3(0.3 * step, 0.1 * step, 0)))) << "step " << step;
+    }
+    // Dipping to within reach of the floor (twice the thickness plus 1/1024
+    // of the pair's size) ends the certificate.
+    EXPECT_FALSE(clearance.holds_at(floor, shifted(card, Vec3(2.4, 0.8, -0.045))));
+}
+
+TEST(PairClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
+    // Random pairs drifting over several steps, some coming close enough to
+    // touch (within the thickness, even only along a diagonal): every step
+    // the certificate clears must be one the narrow phase misses.
+    std::mt19937 random(20240611);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto point = [&](double scale) { return Vec3(unit(random), unit(random), unit(random)) * scale; };
+    int cleared = 0, hits = 0;
+    for (double thickness : {0.0, 0.05}) {
+        CCDSettings settings;
+        settings.thickness = thickness;
+        for (int trial = 0; trial < 400; ++trial) {
+            Positions a{point(1.0), point(1.0), point(1.0)};
+            Positions b = shifted({point(1.0), point(1.0), point(1.0)}, Vec3(0, 0, 0.5 + unit(random)));
+            const Triangle ids_a{0, 1, 2}, ids_b{3, 4, 5};
+            PairClearance clearance;
+            clearance.start(ids_a, a, ids_b, b, false, thickness, settings.tolerance);
+            const Vec3 velocity_a = point(0.1), velocity_b = point(0.1) - Vec3(0, 0, 0.1);
+            for (int step = 0; step < 8; ++step) {
+                const Positions a1 = shifted(a, velocity_a + point(0.02));
+                const Positions b1 = shifted(b, velocity_b + point(0.02));
+                const bool certified = clearance.holds_at(a1, b1);
+                const bool hit = triangle_pair_ccd({ids_a, a, a1}, {ids_b, b, b1}, false, settings).hit;
+                EXPECT_FALSE(certified && hit) << "trial " << trial << " step " << step;
+                cleared += certified;
+                hits += hit;
+                if (!certified) break;
+                a = a1;
+                b = b1;
+            }
+        }
+    }
+    EXPECT_GT(cleared, 200);
+    EXPECT_GT(hits, 20);
+}
+
+TEST(PairClearance, AVertexOffTheCornerAlongTheDiagonalIsNotCleared) {
+    // The narrow phase counts primitive points within the thickness on every
+    // axis as touching: a vertex 0.9 thickness off a corner on each axis is
+    // a contact although 1.56 thicknesses away. No certificate may clear it.
+    const double thickness = 0.05, e = 0.9 * thickness;
+    const Positions a{Vec3(0, 0, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)};
+    const Positions b{Vec3(e, e, e), Vec3(e + 1, e, e + 1), Vec3(e, e + 1, e + 1)};
+    CCDSettings settings;
+    settings.thickness = thickness;
+    ASSERT_TRUE(triangle_pair_ccd({{0, 1, 2}, a, a}, {{3, 4, 5}, b, b}, false, settings).hit);
+    PairClearance clearance;
+    clearance.start({0, 1, 2}, a, {3, 4, 5}, b, false, thickness, settings.tolerance);
+    EXPECT_FALSE(clearance.holds_at(a, b));
+}
