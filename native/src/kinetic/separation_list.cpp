@@ -285,9 +285,13 @@ void KineticSeparationLists::cover(Entry& e) {
     // Only this entry tests its triangle pair, and a settled pair became
     // inert when the entry was created or when it hit.
     ++counters_.polygons_collide_events;
+    // A pair the certificate clears is covered a few steps ahead in the same
+    // call; update() skips it until then (it may turn apart meanwhile, which
+    // only means those steps were covered in vain).
+    const size_t ahead = std::min(static_cast<size_t>(step_index_) + 1 + LEAF_COVER_AHEAD_STEPS, times_.size() - 1);
     const StepRun run = tester_.test_steps(list.mesh_a, tri_a, list.mesh_b, tri_b,
                                            std::max(step_begin_, e.tested_until), until, true,
-                                           e.permanent ? nullptr : &clearance_run(e));
+                                           e.permanent ? nullptr : &clearance_run(e), times_[ahead]);
     e.tested_until = run.tested_until;
     if (run.hit) {
         e.inert = true;
@@ -353,7 +357,8 @@ void KineticSeparationLists::update(int32_t id) {
         }
         return;
     }
-    if (e.fa >= 0 && apart(list, e.fa, e.fb, FRONT_HYSTERESIS)) {
+    if (e.fa >= 0 && (step_index_ + id) % FRONT_COARSEN_EVERY_STEPS == 0 &&
+        apart(list, e.fa, e.fb, FRONT_HYSTERESIS)) {
         // Ascend to the highest pair that stays apart (section 6.1).
         ++counters_.fathers_do_not_overlap_events;
         NodePair top{e.fa, e.fb};
@@ -383,12 +388,12 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
     progress_ = &progress;
     std::vector<bool> used(trees_.size(), false);
     for (size_t m = 0; m < trees_.size(); ++m) used[m] = trees_[m] != nullptr;
-    std::vector<double> times = breakpoint_times(scene_, used, t_begin_, t_end_);
-    if (times.size() == 1) times.push_back(times.front());  // an empty range: its one instant
-    for (size_t k = 0; k + 1 < times.size(); ++k) {
+    times_ = breakpoint_times(scene_, used, t_begin_, t_end_);
+    if (times_.size() == 1) times_.push_back(times_.front());  // an empty range: its one instant
+    for (size_t k = 0; k + 1 < times_.size(); ++k) {
         step_index_ = static_cast<int64_t>(k);
-        step_begin_ = times[k];
-        step_end_ = times[k + 1];
+        step_begin_ = times_[k];
+        step_end_ = times_[k + 1];
         for (const auto& tree : trees_) {
             if (tree) {
                 tree->fit(step_begin_, step_end_);

@@ -44,6 +44,33 @@ double largest_coordinate(const std::array<Vec3, 3>& a, const std::array<Vec3, 3
 
 void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
                           const std::array<Vec3, 3>& b, bool same_mesh, double contact_distance, double tolerance) {
+    for (int i = 0; i < 6; ++i) relative_start_[i] = (i < 3 ? a[i] : b[i - 3]) - a[0];
+    diameter_ = box_diagonal(a, b);
+    contact_distance_ = PAIR_CLEARANCE_CONTACT_REACH * contact_distance;
+    size_fraction_ = std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
+    magnitude_ = largest_coordinate(a, b);
+    drift_ = 0.0;
+    drift_holds_ = true;
+    plane_holds_ = false;
+    bool shared = false;
+    for (int32_t v : ids_a) shared = shared || (same_mesh && holds_vertex(ids_b, v));
+    if (!shared) {  // the plane of either triangle would pass through a shared vertex
+        double best = -std::numeric_limits<double>::infinity();
+        for (const std::array<Vec3, 3>* t : {&a, &b}) {
+            const Vec3 cross = ((*t)[1] - (*t)[0]).cross((*t)[2] - (*t)[0]);
+            const double length = cross.norm();
+            if (!(length > 0.0)) continue;
+            for (double side : {1.0, -1.0}) {
+                const Vec3 normal = cross * (side / length);
+                const double gap = plane_gap(normal, a, b);
+                if (gap > best) {
+                    best = gap;
+                    normal_ = normal;
+                }
+            }
+        }
+        plane_holds_ = best > plane_reach(a, b);
+    }
     double squared = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 3; ++i) {
         if (!(same_mesh && holds_vertex(ids_b, ids_a[i])))
@@ -60,36 +87,6 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
         }
     }
     distance_ = std::sqrt(squared);
-    diameter_ = 0.0;
-    for (int i = 0; i < 6; ++i) {
-        const Vec3& p = i < 3 ? a[i] : b[i - 3];
-        relative_start_[i] = p - a[0];
-        for (int j = 0; j < i; ++j) diameter_ = std::max(diameter_, (p - (j < 3 ? a[j] : b[j - 3])).norm());
-    }
-    contact_distance_ = PAIR_CLEARANCE_CONTACT_REACH * contact_distance;
-    size_fraction_ = std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
-    magnitude_ = largest_coordinate(a, b);
-    drift_ = 0.0;
-    drift_holds_ = true;
-    plane_holds_ = false;
-    bool shared = false;
-    for (int32_t v : ids_a) shared = shared || (same_mesh && holds_vertex(ids_b, v));
-    if (shared) return;  // the plane of either triangle passes through the shared vertex
-    double best = -std::numeric_limits<double>::infinity();
-    for (const std::array<Vec3, 3>* t : {&a, &b}) {
-        const Vec3 cross = ((*t)[1] - (*t)[0]).cross((*t)[2] - (*t)[0]);
-        const double length = cross.norm();
-        if (!(length > 0.0)) continue;
-        for (double side : {1.0, -1.0}) {
-            const Vec3 normal = cross * (side / length);
-            const double gap = plane_gap(normal, a, b);
-            if (gap > best) {
-                best = gap;
-                normal_ = normal;
-            }
-        }
-    }
-    plane_holds_ = best > plane_reach(a, b);
 }
 
 double PairClearance::plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {

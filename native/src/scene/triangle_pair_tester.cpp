@@ -112,7 +112,8 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
 }
 
 StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from,
-                                       double until, bool use_clearance, ClearanceRun* carried) {
+                                       double until, bool use_clearance, ClearanceRun* carried,
+                                       double ahead_until) {
     constexpr double infinity = std::numeric_limits<double>::infinity();
     canonical_order(mesh_a, tri_a, mesh_b, tri_b);
     const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
@@ -136,7 +137,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
     int32_t& wait = run.wait;
     int32_t& backoff = run.backoff;
     // Only a run that followed every step up to `from` may go on.
-    const auto finish = [&](StepRun result) {
+    const auto done = [&](StepRun result) {
         if (carried) {
             if (&run == &local) *carried = local;
             carried->valid_at = result.hit ? -infinity : result.tested_until;
@@ -160,7 +161,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
                 end = std::min(end, kt);
             }
         }
-        if (!std::isfinite(end)) return finish({infinity, false});
+        if (!std::isfinite(end)) return done({infinity, false});
         if (!std::isfinite(begin)) begin = std::min(t, end);
         // Every vertex's segment holds `begin` too (no breakpoint lies in (begin, t]).
         std::array<Vec3, 3> a0, a1, b0, b1;
@@ -200,10 +201,12 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         }
         if (cleared) {
             ++counters_.cleared_steps;
+        } else if (begin >= until) {
+            return done({begin, false});  // covering ahead stops before a step that needs the narrow phase
         } else if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1)) {
-            return finish({end, true});
+            return done({end, true});
         }
-        if (end >= until) return finish({end, false});
+        if (end >= until && (!cleared || end >= ahead_until)) return done({end, false});
         t = end;
     }
 }

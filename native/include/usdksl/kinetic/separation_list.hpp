@@ -28,6 +28,17 @@ constexpr double FRONT_HYSTERESIS = 1.0;
 ///        stops being covered by the narrow phase.
 constexpr double LEAF_HYSTERESIS = 0.25;
 
+/// @brief Steps between two looks at whether an entry's father stays apart.
+///        Coarsening the front is never needed to find every contact (a finer
+///        front finds the same ones), so each step looks at the fathers of
+///        one entry in this many, spread by entry index.
+constexpr int64_t FRONT_COARSEN_EVERY_STEPS = 4;
+
+/// @brief Steps beyond the current one that an overlapping leaf pair's narrow
+///        phase covers in the same call while its clearance certificate
+///        clears them: one call per step would cost more than the steps.
+constexpr int64_t LEAF_COVER_AHEAD_STEPS = 7;
+
 /// @brief All separation lists of one check, sharing one tree per mesh. Each
 ///        list entry is a BVTT node: a pair of tree nodes whose boxes do not
 ///        meet (with the father it hangs from), or an overlapping pair of
@@ -109,6 +120,7 @@ private:
     TrianglePairTester& tester_;
     Counters& counters_;
     double t_begin_, t_end_;
+    std::vector<double> times_;                 // breakpoint times: the steps' ends (time codes)
     double step_begin_ = 0.0, step_end_ = 0.0;  // current step (time codes)
     int64_t step_index_ = 0;
     bool initializing_ = false;

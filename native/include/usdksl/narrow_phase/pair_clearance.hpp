@@ -72,7 +72,7 @@ private:
 
     std::array<Vec3, 6> relative_start_;  // vertices minus A's first vertex at the start
     double distance_ = 0.0;               // smallest tested primitive distance at the start
-    double diameter_ = 0.0;               // of the six vertices at the start
+    double diameter_ = 0.0;               // at least that of the six vertices at the start
     double contact_distance_ = 0.0;       // scene units, times PAIR_CLEARANCE_CONTACT_REACH
     double size_fraction_ = 0.0;
     double magnitude_ = 0.0;              // largest absolute coordinate seen

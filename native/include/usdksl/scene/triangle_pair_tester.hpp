@@ -10,6 +10,7 @@
 #include "usdksl/scene/scene.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -61,9 +62,13 @@ public:
     ///        out of reach are skipped (counted as cleared_steps). A `carried`
     ///        run whose valid_at equals `from` goes on from where the last
     ///        call left it; any other starts afresh; either way it is left
-    ///        ready for a call from the returned tested_until.
+    ///        ready for a call from the returned tested_until. Past `until`
+    ///        it goes on up to `ahead_until` (time code) while the certificate
+    ///        clears steps, and stops before the first step it does not clear
+    ///        (whose begin is then the returned tested_until).
     StepRun test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from, double until,
-                       bool use_clearance, ClearanceRun* carried = nullptr);
+                       bool use_clearance, ClearanceRun* carried = nullptr,
+                       double ahead_until = -std::numeric_limits<double>::infinity());
 
     /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);
