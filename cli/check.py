@@ -74,9 +74,13 @@ def _echo(line: str) -> None:
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
               help="Stop after SECONDS: exit 2 with one line, and no files written for a shot not finished.")
+@click.option("--memory-limit", default=None, metavar="SIZE",
+              help="Memory a shot's check may use (8G, 512M, bytes; 'off': no check). Default: the "
+                   "environment variable USDKSL_MEMORY_LIMIT, else what the machine has available. A "
+                   "shot estimated to need more is refused (exit 2) before it is loaded.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, crosscheck, json_path, junit_path, strict, jobs, scheduler,
-          timeout):
+          timeout, memory_limit):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -88,7 +92,8 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
-                           include_invisible=include_invisible, crosscheck=crosscheck, strict=strict)
+                           include_invisible=include_invisible, crosscheck=crosscheck, strict=strict,
+                           memory_limit=memory_limit)
     shots = expand_shots(shots)
     finished = []
     try:

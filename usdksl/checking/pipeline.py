@@ -31,6 +31,7 @@ from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import build_override_layer, shot_stem
 from ..version import __version__
 from .collision import METHODS, find_contacts
+from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
 
 TimeRange = Tuple[float, float]
 
@@ -76,9 +77,13 @@ class CheckOptions:
     #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
     #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
     strict: bool = False
+    #: Memory the check may use: a size ("8G", bytes), "off", or None for what the machine has
+    #: (usdksl.checking.memory_budget). Does not change any result, so not in settings().
+    memory_limit: Optional[str] = None
 
     def validate(self) -> None:
         """Raise UsdkslUsageError (exit 2) on a value the check cannot use."""
+        parse_memory_size(self.memory_limit)
         if self.method not in METHODS:
             raise UsdkslUsageError(f"--method must be one of {', '.join(METHODS)}, got {self.method!r}")
         if not self.tolerance > 0:
@@ -198,7 +203,10 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
 
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
+    size = scan_shot(shot, options.time_range, predicate)   # its open stage makes the loader's open free
+    check_memory(size, options.method, memory_limit(options.memory_limit), file=name)
     segments = load_segments(shot, options.time_range, predicate, say, name)
+    del size
     loaded = segments[0][1]
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
                          include_guides=options.include_guides, include_invisible=options.include_invisible)
