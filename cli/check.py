@@ -1,9 +1,11 @@
 """``usdksl check SHOT [SHOT...]``: first contacts of whole shots, written to CSV and to USD override layers.
 
 Streams: stdout stays empty (or carries the JSON document with ``--json -``) so pipelines can parse it;
-the plan (what is checked and why the rest is skipped), warnings, the progress bar and the final summary
-line go to stderr. With several shots (or ``--jobs`` / ``--scheduler``) each shot gets one line (and its
-warnings), then a total line. Exit codes: 0 clean, 1 contacts found, 2 usage or input error (nothing
+everything else goes to stderr. By default: warnings, the baseline's new and fixed contacts, one line per
+shot (counts and the first contact's frame) and, for several shots, a total line; ``-v`` adds the plan
+(what is checked and why the rest is not), one line per mesh pair and the files written; ``-q`` prints
+errors only. A progress bar is drawn on a terminal (not in CI, not with ``-q``). ``--junit`` is written
+whatever the exit code (an <error> test case for a shot that could not be checked). Exit codes: 0 clean, 1 contacts found, 2 usage or input error (nothing
 written for that shot), 3 the cross-check disagrees; the worst (largest) over all shots.
 """
 
@@ -17,12 +19,17 @@ import click
 
 from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..checking.collision import METHODS
-from ..checking.pipeline import ERROR, WARNING, CheckOptions, check_shot, output_targets
+from ..baseline import baseline_for_shot
+from ..checking.pipeline import (NORMAL, QUIET, VERBOSE, WARNING, CheckOptions, Message, check_shot,
+                                 output_targets)
 from ..checking.progress import Progress, progress_enabled
-from ..errors import UsdkslInputError
+from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import INPUT_ERROR
 from ..reports.output import write_files
-from ..scale.batch import expand_shots, make_jobs, run_batch, run_here, total_line, worst_exit_code
+from ..reports.junit import junit_error_report
+from ..reports.override import shot_stem
+from ..scale.batch import (ShotOutcome, expand_shots, junit_for_outcomes, make_jobs, run_batch, run_here,
+                           total_line, worst_exit_code)
 from ..stopping import Stopped, deferred_stops, stop_on_signals
 from .options import parse_time_range
 
@@ -58,29 +65,55 @@ def _echo(line: str) -> None:
 @click.option("--include-guides", is_flag=True, help="Also check meshes with purpose guide.")
 @click.option("--include-invisible", is_flag=True,
               help="Also check meshes that are invisible over the whole checked range.")
+@click.option("--rigid", is_flag=True,
+              help="Also check pairs in which neither mesh deforms (rigid against rigid or still). By default "
+                   "a pair needs a deforming mesh; the summary says how many pairs this leaves out.")
 @click.option("--crosscheck", is_flag=True,
               help="Also intersect every sample with Embree and check it against the contacts "
                    "(writes <stem>.crosscheck.csv; exit 3 when they disagree).")
+@click.option("--last-contact", is_flag=True,
+              help="Also find when each face pair last touches (the shot checked a second time, played "
+                   "backwards: about twice the time). Adds last_time,last_frame,last_seconds columns.")
+@click.option("--baseline", "baseline", metavar="PATH", default=None,
+              help="Contacts accepted earlier: a contacts.csv of an earlier run or an accept list "
+                   "(prim_a,face_a,prim_b,face_b[,time]; face '*' = any), or a folder of <stem>.contacts.csv "
+                   "for several shots. Only new contacts count for the exit code.")
+@click.option("--baseline-time-tolerance", type=float, default=None, metavar="T",
+              help="Also require a baseline entry's time to be within T time codes of the contact's.")
+@click.option("--plot", "plot_path", metavar="FILE.png", default=None,
+              help="Also draw a contact timeline: one row per mesh pair, frames across, shaded while in contact, "
+                   "a tick at each first contact. Turns on --last-contact. Needs matplotlib "
+                   "(pip install 'usdksl[plot]'). One shot only.")
 @click.option("--json", "json_path", metavar="FILE", default=None,
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
-              help="Also write a JUnit XML report: one testsuite per shot, one testcase per checked pair.")
+              help="Also write a JUnit XML report, whatever the exit code: one testsuite per shot, one testcase "
+                   "per checked pair; an <error> test case for a shot that cannot be checked.")
 @click.option("--strict", is_flag=True,
               help="Exit 2 (nothing written) when the cache has a simulation blow-up or nothing is left "
                    "to check, instead of warning.")
+@click.option("-v", "--verbose", "verbosity", flag_value=VERBOSE,
+              help="Also print the plan (what is checked and why the rest is not), one line per mesh pair "
+                   "with contacts, and the files written.")
+@click.option("-q", "--quiet", "verbosity", flag_value=QUIET, help="Print errors only.")
+@click.option("--normal", "verbosity", flag_value=NORMAL, default=True, hidden=True)
 @click.option("--jobs", type=click.IntRange(min=1), default=None, metavar="N",
               help="Check the shots on a local Dask cluster of N worker processes.")
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Check the shots on the running Dask scheduler at ADDRESS (e.g. tcp://host:8786).")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, metavar="SECONDS",
               help="Stop after SECONDS: exit 2 with one line, and no files written for a shot not finished.")
+@click.option("--threads", type=click.IntRange(min=1), default=None, metavar="N",
+              help="Threads per check (default: every core this process may use); results are identical for "
+                   "any count.")
 @click.option("--memory-limit", default=None, metavar="SIZE",
               help="Memory a shot's check may use (8G, 512M, bytes; 'off': no check). Default: the "
                    "environment variable USDKSL_MEMORY_LIMIT, else what the machine has available. A "
                    "shot estimated to need more is refused (exit 2) before it is loaded.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
-          include_guides, include_invisible, crosscheck, json_path, junit_path, strict, jobs, scheduler,
-          timeout, memory_limit):
+          include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
+          baseline_time_tolerance, plot_path, json_path, junit_path, strict, verbosity, jobs, scheduler,
+          timeout, threads, memory_limit):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -92,52 +125,92 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
     options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
-                           include_invisible=include_invisible, crosscheck=crosscheck, strict=strict,
-                           memory_limit=memory_limit)
+                           include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
+                           last_contact=last_contact or plot_path is not None, strict=strict,
+                           threads=threads, memory_limit=memory_limit)
     shots = expand_shots(shots)
     finished = []
+    single = len(shots) == 1 and jobs is None and scheduler is None
     try:
         with stop_on_signals(timeout):
-            if len(shots) == 1 and jobs is None and scheduler is None:
-                _check_one(shots[0], options, out, json_path, junit_path)
-            _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, finished)
+            if single:
+                _check_one(shots[0], options, out, json_path, junit_path, baseline, baseline_time_tolerance,
+                           verbosity, plot_path)
+            _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline,
+                        baseline_time_tolerance, verbosity, plot_path, finished)
     except Stopped as stop:
-        single = len(shots) == 1 and jobs is None and scheduler is None
         done = ("nothing written" if single or not finished
                 else f"{len(finished)} of {len(shots)} shots finished (their files are written), the others not")
-        _echo(stop.line(done, shot=shots[0] if single else None))
+        line = stop.line(done, shot=shots[0] if single else None)
+        _echo(line)
+        if junit_path and junit_path != "-":
+            _write_stopped_junit(junit_path, shots, finished, line[len("usdksl: "):], stop.exit_code)
         sys.exit(stop.exit_code)
 
 
-def _check_one(shot, options, out, json_path, junit_path):
-    """One shot in this process: the plan and warnings as they come, a progress bar over the shot's time."""
+def _write_stopped_junit(junit_path, shots, finished, message, exit_code):
+    """The --junit report of a stopped run: the finished shots as checked, an <error> for every other."""
+    done = {outcome.name: outcome for outcome in finished}
+    outcomes = [done.get(shot) or ShotOutcome(name=shot, exit_code=exit_code, error=message) for shot in shots]
     try:
-        options.validate()
-        targets = output_targets(shot, out, json_path, junit_path)
-        result = check_shot(shot, options, targets, on_message=lambda message: _echo(message.line()),
-                            progress=Progress)
+        write_files({junit_path: junit_for_outcomes(outcomes)})
     except UsdkslInputError as error:
         _echo(f"usdksl: error: {error}")
-        sys.exit(error.exit_code)
+
+
+def _fail(shots, message, junit_path, exit_code=INPUT_ERROR, kind="error"):
+    """Say why the check could not be done, write the --junit report of it (an <error> per shot) and exit."""
+    _echo(f"usdksl: {kind}: {message}")
+    if junit_path and junit_path != "-":
+        try:
+            write_files({junit_path: junit_error_report(shots, message)})
+        except UsdkslInputError as error:
+            _echo(f"usdksl: error: {error}")
+    sys.exit(exit_code)
+
+
+def _crash_message(error):
+    return f"{type(error).__name__}: {' '.join(str(error).split())} (set USDKSL_DEBUG=1 for a traceback)"
+
+
+def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity, plot_path):
+    """One shot in this process: the plan and warnings as they come, a progress bar over the shot's time."""
+    def show(message):
+        if message.shown(verbosity):
+            _echo(message.line())
+
+    try:
+        options.validate()
+        targets = output_targets(shot, out, json_path, junit_path, plot_path)
+        if baseline is not None and not os.path.exists(baseline):
+            raise UsdkslUsageError("baseline not found", file=baseline)
+        accepted, warning = baseline_for_shot(baseline, shot_stem(shot), baseline_time_tolerance)
+        if warning is not None:
+            show(Message(WARNING, warning))
+        result = check_shot(shot, options, targets, on_message=show,
+                            progress=Progress if verbosity > QUIET else None, baseline=accepted)
+    except UsdkslInputError as error:
+        _fail([shot], error.one_line(), junit_path, error.exit_code)
     except Exception as error:  # never let a crash look like "contacts found" (exit 1)
         if os.environ.get("USDKSL_DEBUG"):
             raise
-        _echo(f"usdksl: internal error: {type(error).__name__}: {' '.join(str(error).split())} "
-              f"(set USDKSL_DEBUG=1 for a traceback)")
-        sys.exit(INPUT_ERROR)
+        _fail([shot], _crash_message(error), junit_path, kind="internal error")
     with deferred_stops(drop=True):   # the answer is known: publish it, say so and end, uncut
         try:
-            write_files(result.files)
+            written = write_files(result.files)
         except UsdkslInputError as error:
-            _echo(f"usdksl: error: {error}")
-            sys.exit(error.exit_code)
+            _fail([shot], error.one_line(), junit_path, error.exit_code)
         if result.stdout is not None:
             sys.stdout.write(result.stdout)
-        _echo(result.summary)
+        if verbosity >= NORMAL:
+            _echo(result.summary)
+        if verbosity >= VERBOSE:
+            _echo(f"usdksl: wrote {', '.join(str(path) for path in written)}")
         sys.exit(result.exit_code)
 
 
-def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, finished):
+def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance,
+                verbosity, plot_path, finished):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
     ``finished`` collects the outcomes shown (their files are written)."""
     from tqdm import tqdm
@@ -146,20 +219,21 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, fin
         raise click.UsageError("give --jobs or --scheduler, not both")
     try:
         options.validate()
-        entries = make_jobs(shots, out, json_path, junit_path)
+        entries = make_jobs(shots, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path)
         if jobs is None and scheduler is None:
             runner = run_here
         else:
             from ..scale.dask_runner import run_on_dask
             runner = functools.partial(run_on_dask, workers=jobs, scheduler=scheduler)
-        bar = tqdm(total=len(entries), unit="shot", file=sys.stderr, disable=not progress_enabled(sys.stderr),
-                   leave=False)
+        bar = tqdm(total=len(entries), unit="shot", file=sys.stderr,
+                   disable=verbosity == QUIET or not progress_enabled(sys.stderr), leave=False)
 
         def show(outcome):
             for message in outcome.messages:
-                if message.level in (WARNING, ERROR):
+                if message.shown(verbosity):
                     bar.write(message.line(outcome.name), file=sys.stderr)
-            bar.write(outcome.line(), file=sys.stderr)
+            if outcome.result is None or verbosity >= NORMAL:
+                bar.write(outcome.line(), file=sys.stderr)
             bar.update(1)
             finished.append(outcome)
 
@@ -167,9 +241,11 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, fin
             outcomes = run_batch(entries, options, runner, on_outcome=show)
         finally:
             bar.close()
+        if junit_path:
+            write_files({junit_path: junit_for_outcomes(outcomes)})
     except UsdkslInputError as error:
-        _echo(f"usdksl: error: {error}")
-        sys.exit(error.exit_code)
+        _fail(shots, error.one_line(), junit_path, error.exit_code)
     with deferred_stops(drop=True):
-        _echo(total_line(outcomes))
+        if verbosity >= NORMAL:
+            _echo(total_line(outcomes))
         sys.exit(worst_exit_code(outcomes))

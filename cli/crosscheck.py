@@ -34,6 +34,8 @@ def crosscheck(shot, frames, contacts_file, out_dir, time_range):
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)
         sys.exit(UsdkslInputError.exit_code)
+    for warning in loaded.warnings:
+        click.echo(f"usdksl: warning: {warning}", err=True)
     for line in result.error_lines():
         click.echo(f"usdksl: error: {line}", err=True)
     click.echo(result.summary_line(), err=True)

@@ -16,6 +16,9 @@ def main() -> None:
     try:
         with stop_on_signals():
             with deferred_stops():
+                from .._openusd import require_openusd
+
+                require_openusd()   # without pxr: one line, exit 2
                 from .main import main as command_line
             command_line()
     except Stopped as stop:

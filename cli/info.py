@@ -26,6 +26,8 @@ def info(shot, time_range):
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)
         sys.exit(UsdkslInputError.exit_code)
+    for warning in loaded.warnings:
+        click.echo(f"usdksl: warning: {warning}", err=True)
 
     rows = [(mesh.path, str(mesh.face_count), str(mesh.vertex_count), str(mesh.triangle_count),
              str(mesh.sample_count), _time_span(mesh.times), mesh.kind) for mesh in loaded.meshes]
@@ -40,6 +42,11 @@ def info(shot, time_range):
     click.echo(line(header))
     for row in rows:
         click.echo(line(row))
+    instancers = sorted({mesh.instancer for mesh in loaded.meshes if mesh.instancer})
+    if instancers:
+        count = sum(1 for mesh in loaded.meshes if mesh.instancer)
+        click.echo(f"instances: {count} meshes from {len(instancers)} PointInstancer"
+                   f"{'s' if len(instancers) != 1 else ''} ({', '.join(instancers)})")
     metadata = loaded.metadata
     click.echo(f"shot: {len(loaded.meshes)} meshes, {len(loaded.times)} time samples, "
                f"time {_time_span(loaded.times)}, "

@@ -18,6 +18,7 @@ def _register():
     from .check import check; main.add_command(check)  # noqa: E702
     from .crosscheck import crosscheck; main.add_command(crosscheck)  # noqa: E702
     from .bench import bench; main.add_command(bench)  # noqa: E702
+    from .merge import merge; main.add_command(merge)  # noqa: E702
 
 
 _register()

@@ -3,6 +3,7 @@
     python samples/generate.py tablecloth --faces 16000 --keyframes 11 --samples-per-keyframe 10
     python samples/generate.py swirl      --faces 8000
     python samples/generate.py character  --triangles 60000
+    python samples/generate.py flutter    --faces 800 --frames 48
 
 Motion is defined at K keyframes; between two keyframes, S samples are written that
 interpolate the keyframes linearly (keyframe k sits at time code 1 + k*S, samples at every
@@ -17,6 +18,16 @@ numpy arrays; the scenes are deterministic for a given --seed.
 - character:  a walking figure of capsules (torso, head, arms, legs; rigid, driven by
               animated xformOps on parent Xforms) wearing a deforming tube shirt that the
               swinging arms brush. --triangles 35000..90000 (all meshes together).
+
+One scene is written the way simulator caches look instead (``PerFrameShot``): a sample at
+every frame (time codes 1..--frames) of motion evaluated in closed form, so vertices move on
+curves and no three consecutive samples of a moving vertex are collinear; --keyframes and
+--samples-per-keyframe do not apply to it.
+
+- flutter:    a cloth falls on a parabola onto a table, then rests on its top (a gap of
+              FLUTTER_REST_GAP) for most of the shot while every vertex circles in place and
+              the overhang flutters against the table's sides; a pendulum ball swings on an
+              arc through the hanging cloth. --faces 100..20000, small enough for unit tests.
 """
 
 from __future__ import annotations
@@ -116,6 +127,43 @@ class KeyframedShot:
         for write in self._writers:
             write(stage)
         stage.GetRootLayer().Save()
+
+
+class PerFrameShot(KeyframedShot):
+    """A shot sampled at every frame (time codes 1..frames) from closed-form motion, like a simulator
+    cache: ``shape(time_code)`` and the xform callables are evaluated at each frame, not keyframed."""
+
+    def __init__(self, frames: int):
+        if frames < 3:
+            raise ValueError("need at least 3 frames")
+        self.frames = frames
+        self._writers: List[Callable[[Usd.Stage], None]] = []
+
+    @property
+    def sample_times(self) -> np.ndarray:
+        return 1.0 + np.arange(self.frames, dtype=np.float64)
+
+    def deforming_mesh(self, path, counts, indices, shape: Callable[[float], np.ndarray], color=None):
+        """``shape(t)`` gives the points at time code t; written at every frame."""
+        def write(stage):
+            mesh = define_mesh(stage, path, counts, indices, points=None, samples={}, color=color)
+            attribute = mesh.GetPointsAttr()
+            for time in self.sample_times:
+                attribute.Set(Vt.Vec3fArray.FromNumpy(np.asarray(shape(float(time)), np.float32)), float(time))
+        self._writers.append(write)
+
+    def animated_xform(self, path, translate: Callable[[float], tuple],
+                       rotate_xyz: Optional[Callable[[float], tuple]] = None):
+        """An Xform whose translate (and XYZ Euler rotation, degrees) are given per time code."""
+        def write(stage):
+            xform = UsdGeom.Xform.Define(stage, path)
+            translate_op = xform.AddTranslateOp()
+            rotate_op = xform.AddRotateXYZOp() if rotate_xyz is not None else None
+            for time in self.sample_times:
+                translate_op.Set(Gf.Vec3d(*translate(float(time))), float(time))
+                if rotate_op is not None:
+                    rotate_op.Set(Gf.Vec3f(*rotate_xyz(float(time))), float(time))
+        self._writers.append(write)
 
 
 # --------------------------------------------------------------------------- shapes
@@ -301,25 +349,94 @@ def scene_character(shot: KeyframedShot, triangles: int, rng: np.random.Generato
     return f"character: {total} triangles (shirt {2 * len(s_counts)}, six capsules)"
 
 
+#: Gap between the resting cloth and the table top (scene units): the cloth never touches the top.
+FLUTTER_REST_GAP = 0.004
+#: Every cloth vertex circles in a horizontal plane with this radius (scene units) and period (frames).
+#: The circle's speed (2 pi r / period) exceeds the largest horizontal speed of the rest of the motion
+#: (FLUTTER_AMPLITUDE * 2 pi / FLUTTER_PERIOD), so the path curves at every sample: the middle of any
+#: three consecutive samples lies off their chord, and no flightplan merge can drop a sample.
+FLUTTER_CIRCLE = 0.004
+FLUTTER_CIRCLE_PERIOD = 6.0
+#: Horizontal flutter of the overhang into the table's sides (scene units, frames).
+FLUTTER_AMPLITUDE = 0.02
+FLUTTER_PERIOD = 40.0
+
+
+def scene_flutter(shot: PerFrameShot, faces: int, rng: np.random.Generator) -> str:
+    frames = shot.frames
+    top_half = np.array([0.5, 0.025, 0.35])
+    top_center = np.array([0.0, 0.5, 0.0])
+    table_top = top_center[1] + top_half[1]
+    points, counts, indices = box(top_center, top_half)
+    shot.static_mesh("/World/Table/Top", counts, indices, points, color=(0.45, 0.3, 0.2))
+
+    columns, rows = grid_for_faces(faces, 1.4 / 1.0)
+    flat, cloth_counts, cloth_indices = grid(columns, rows, 1.4, 1.0)
+    x, z = flat[:, 0], flat[:, 2]
+    overhang = np.maximum(np.maximum(np.abs(x) - top_half[0], np.abs(z) - top_half[2]), 0.0)
+    hanging = np.minimum(overhang / 0.05, 1.0)
+    # hanging parts tuck in under the table edge, so their flutter swings into its sides
+    tuck = 0.035 * hanging
+    rest = np.stack([x - np.sign(x) * tuck * (np.abs(x) > top_half[0]),
+                     table_top + FLUTTER_REST_GAP - 0.9 * overhang,
+                     z - np.sign(z) * tuck * (np.abs(z) > top_half[2])], axis=1)
+    along_x = np.abs(x) - top_half[0] > np.abs(z) - top_half[2]
+    inward = np.stack([np.where(along_x, np.sign(x), 0.0), np.zeros_like(x),
+                       np.where(along_x, 0.0, np.sign(z))], axis=1)
+    start_height, landing = 1.1, 0.25 * frames        # falls on a parabola until the landing frame
+    circle_phase = rng.uniform(0, 2 * math.pi, size=x.shape)
+    flutter_phase = rng.uniform(0, 2 * math.pi, size=x.shape)
+
+    def cloth(t: float) -> np.ndarray:
+        u = min((t - 1.0) / landing, 1.0)
+        out = rest.copy()
+        drop = (start_height - table_top) * (1.0 - u * u)
+        out[:, 1] = rest[:, 1] + drop * (1.0 - 0.9 * overhang / max(overhang.max(), 1e-9) * u)
+        circling = 2 * math.pi * t / FLUTTER_CIRCLE_PERIOD + circle_phase
+        out[:, 0] += FLUTTER_CIRCLE * np.cos(circling)
+        out[:, 2] += FLUTTER_CIRCLE * np.sin(circling)
+        flutter = FLUTTER_AMPLITUDE * hanging * np.sin(2 * math.pi * t / FLUTTER_PERIOD + flutter_phase)
+        return out - flutter[:, None] * inward
+
+    shot.deforming_mesh("/World/Cloth", cloth_counts, cloth_indices, cloth, color=(0.85, 0.85, 0.95))
+
+    ball, ball_counts, ball_indices = capsule(0.06, 0.0, 12, 4)
+    pivot = (0.0, 1.4, top_half[2] + 0.12)
+    shot.animated_xform("/World/Pendulum", translate=lambda t: pivot,
+                        rotate_xyz=lambda t: (0.0, 0.0, 55.0 * math.sin(2 * math.pi * t / 23.0)))
+    shot.static_mesh("/World/Pendulum/Ball", ball_counts, ball_indices, ball - (0.0, 1.0, 0.0),
+                     color=(0.2, 0.3, 0.8))
+    return (f"flutter: {len(cloth_counts)} cloth faces falling onto a table and resting on it, sampled at "
+            f"every one of {frames} frames on curved paths, a pendulum ball swinging through the overhang")
+
+
 SCENES = {
     "tablecloth": (scene_tablecloth, "--faces", 8000, (2000, 16000)),
     "swirl": (scene_swirl, "--faces", 8000, (4000, 33000)),
     "character": (scene_character, "--triangles", 60000, (35000, 90000)),
+    "flutter": (scene_flutter, "--faces", 800, (100, 20000)),
 }
+#: Scenes written at every frame (PerFrameShot) rather than from keyframes.
+PER_FRAME_SCENES = ("flutter",)
 
 
 def generate(scene: str, size: Optional[int] = None, keyframes: int = 11,
-             samples_per_keyframe: int = 10, seed: int = 7, out: Optional[str] = None) -> str:
-    """Write one scene and return its path (also usable from benchmarks)."""
+             samples_per_keyframe: int = 10, seed: int = 7, out: Optional[str] = None,
+             frames: int = 48) -> str:
+    """Write one scene and return its path (also usable from benchmarks). ``frames`` applies to the
+    per-frame scenes only, ``keyframes`` and ``samples_per_keyframe`` to the others."""
     build, flag, default, _ = SCENES[scene]
     size = default if size is None else size
-    shot = KeyframedShot(keyframes, samples_per_keyframe)
+    per_frame = scene in PER_FRAME_SCENES
+    shot = PerFrameShot(frames) if per_frame else KeyframedShot(keyframes, samples_per_keyframe)
     note = build(shot, size, np.random.default_rng(seed))
     if out is None:
         os.makedirs(GENERATED, exist_ok=True)
-        out = os.path.join(GENERATED, f"{scene}_{size}_k{keyframes}_s{samples_per_keyframe}.usdc")
-    shot.save(out, f"usdksl generated benchmark shot; {note}; keyframes {keyframes}, "
-                   f"samples per keyframe {samples_per_keyframe}, seed {seed}")
+        name = f"{scene}_{size}_f{frames}" if per_frame else f"{scene}_{size}_k{keyframes}_s{samples_per_keyframe}"
+        out = os.path.join(GENERATED, name + ".usdc")
+    sampling = (f"a sample at every one of {frames} frames" if per_frame else
+                f"keyframes {keyframes}, samples per keyframe {samples_per_keyframe}")
+    shot.save(out, f"usdksl generated benchmark shot; {note}; {sampling}, seed {seed}")
     return out
 
 
@@ -330,6 +447,7 @@ def main(argv=None) -> int:
     parser.add_argument("--triangles", type=int, default=None, help="all triangles (character)")
     parser.add_argument("--keyframes", type=int, default=11)
     parser.add_argument("--samples-per-keyframe", type=int, default=10)
+    parser.add_argument("--frames", type=int, default=48, help="frames of the per-frame scenes (flutter)")
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--out", default=None, help="output .usdc (default: samples/generated/...)")
     args = parser.parse_args(argv)
@@ -341,7 +459,7 @@ def main(argv=None) -> int:
     if size is not None and not low <= size <= high:
         print(f"note: {args.scene} is meant for {flag} {low}..{high}", file=sys.stderr)
     started = wallclock.perf_counter()
-    path = generate(args.scene, size, args.keyframes, args.samples_per_keyframe, args.seed, args.out)
+    path = generate(args.scene, size, args.keyframes, args.samples_per_keyframe, args.seed, args.out, args.frames)
     print(f"{path}: {os.path.getsize(path) / 2 ** 20:.1f} MiB in "
           f"{wallclock.perf_counter() - started:.1f} s")
     return 0

@@ -7,7 +7,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from pxr import Usd, UsdGeom, Vt
+import shutil
+
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdSkel, Vt
 
 # --------------------------------------------------------------------------- topologies
 
@@ -209,3 +211,315 @@ def tunnelling_triangle():
     small = np.array([[0.9, 0.9, 1.0], [1.0, 0.9, 1.0], [0.9, 1.0, 1.0]])
     bullet = animated([0.0, 1.0], [small, small - [0, 0, 2.0]], [[0, 1, 2]])
     return plane, bullet
+
+
+# ------------------------------------------------ UsdSkel characters, PointInstancers, layers (reading tests)
+def grid(columns, rows, size_x, size_z, center=(0.0, 0.0, 0.0)):
+    """(points float64[(c+1)(r+1), 3], faceVertexCounts, faceVertexIndices): quads in the XZ plane."""
+    xs = np.linspace(-size_x / 2, size_x / 2, columns + 1)
+    zs = np.linspace(-size_z / 2, size_z / 2, rows + 1)
+    x, z = np.meshgrid(xs, zs)
+    points = np.stack([x.ravel(), np.zeros(x.size), z.ravel()], axis=1) + np.asarray(center, float)
+    counts, indices = [], []
+    for j in range(rows):
+        for i in range(columns):
+            a = j * (columns + 1) + i
+            counts.append(4)
+            indices += [a, a + 1, a + columns + 2, a + columns + 1]
+    return points, counts, indices
+
+
+def box(size=1.0):
+    """(points float64[8, 3], counts, indices): a closed cube of edge ``size`` centred at the origin."""
+    h = size / 2.0
+    points = np.array([[x, y, z] for x in (-h, h) for y in (-h, h) for z in (-h, h)], float)
+    faces = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    return points, [4] * 6, [i for face in faces for i in face]
+
+
+def define_mesh(stage, path, points, counts, indices, samples=None):
+    """A mesh with default ``points`` or with ``samples`` {time: points}."""
+    mesh = UsdGeom.Mesh.Define(stage, path)
+    mesh.CreateFaceVertexCountsAttr(Vt.IntArray([int(c) for c in counts]))
+    mesh.CreateFaceVertexIndicesAttr(Vt.IntArray([int(i) for i in indices]))
+    attribute = mesh.CreatePointsAttr()
+    if samples:
+        for time, value in samples.items():
+            attribute.Set(Vt.Vec3fArray.FromNumpy(np.asarray(value, np.float32)), float(time))
+    else:
+        attribute.Set(Vt.Vec3fArray.FromNumpy(np.asarray(points, np.float32)))
+    return mesh
+
+
+def stretching_sheet(stage, path, size=6.0, columns=6, times=(1.0, 24.0), stretch=1.05):
+    """A deforming cloth sheet in the plane y = 0: it stretches in X and Z (stays planar) between ``times``."""
+    points, counts, indices = grid(columns, columns, size, size)
+    return define_mesh(stage, path, None, counts, indices,
+                       samples={times[0]: points, times[1]: points * [stretch, 1.0, stretch]})
+
+
+# --------------------------------------------------------------------------------------------- UsdSkel
+
+ARM_JOINTS = ["shoulder", "shoulder/elbow", "shoulder/elbow/wrist"]
+ARM_LENGTH = 3.0
+
+
+def _quat(axis, degrees):
+    return Gf.Quatf(Gf.Rotation(Gf.Vec3d(*axis), degrees).GetQuat())
+
+
+def skinned_arm(path, bend_degrees=((1.0, 0.0), (6.0, 40.0), (12.0, 95.0)), bulge_weights=((1.0, 0.0), (9.0, 1.0)),
+                root_motion=((1.0, (0.0, 0.0, 0.0)), (12.0, (0.4, 0.0, 0.0))), with_sheet=True,
+                rigid_bound_prop=False):
+    """A skinned arm under a moving SkelRoot that bends down through a cloth sheet.
+
+    Three joints along +X at y = 1.2 (shoulder, elbow at x = 1, wrist at x = 2); the arm is a strip of quads
+    from x = 0 to 3, each vertex weighted between two joints (blended weights); the elbow bends about Z by
+    the keys ``bend_degrees`` ((time, degrees), ...), sampled at every frame between the first and last key,
+    bringing the forearm down through the sheet at y = 0;
+    a blend shape ``bulge`` pushes the forearm's tip down, with weights animated by ``bulge_weights``; the
+    SkelRoot translates by ``root_motion`` (samples at times that are also joint samples). ``with_sheet``
+    adds a deforming sheet /World/Sheet at y = 0 under the forearm; ``rigid_bound_prop`` adds a small box
+    bound to the wrist with constant (rigid) influences, above the arm. Returns {"arm": path, "sheet": path, ...}.
+    """
+    stage = new_stage(path)
+    root = UsdSkel.Root.Define(stage, "/World/Character")
+    translate = UsdGeom.Xformable(root).AddTranslateOp()
+    for time, offset in root_motion:
+        translate.Set(Gf.Vec3d(*offset), time)
+
+    skeleton = UsdSkel.Skeleton.Define(stage, "/World/Character/Skel")
+    skeleton.CreateJointsAttr(ARM_JOINTS)
+    world_binds = [Gf.Matrix4d(1).SetTranslate(Gf.Vec3d(x, 1.2, 0.0)) for x in (0.0, 1.0, 2.0)]
+    skeleton.CreateBindTransformsAttr(Vt.Matrix4dArray(world_binds))
+    rest = [Gf.Matrix4d(1).SetTranslate(Gf.Vec3d(0.0, 1.2, 0.0))] + \
+           [Gf.Matrix4d(1).SetTranslate(Gf.Vec3d(1.0, 0.0, 0.0))] * 2
+    skeleton.CreateRestTransformsAttr(Vt.Matrix4dArray(rest))
+
+    animation = UsdSkel.Animation.Define(stage, "/World/Character/Anim")
+    animation.CreateJointsAttr(ARM_JOINTS)
+    animation.CreateTranslationsAttr(Vt.Vec3fArray([(0.0, 1.2, 0.0), (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)]))
+    animation.CreateScalesAttr(Vt.Vec3hArray([(1, 1, 1)] * 3))
+    rotations = animation.CreateRotationsAttr()
+    key_times, key_degrees = np.array(bend_degrees, float).T
+    for time in np.arange(key_times[0], key_times[-1] + 0.5):     # one sample per frame, as animators export
+        degrees = float(np.interp(time, key_times, key_degrees))
+        rotations.Set(Vt.QuatfArray([_quat((0, 0, 1), -0.25 * degrees), _quat((0, 0, 1), -degrees),
+                                     _quat((0, 0, 1), -0.5 * degrees)]), float(time))
+    animation.CreateBlendShapesAttr(["bulge"])
+    weights = animation.CreateBlendShapeWeightsAttr()
+    for time, weight in bulge_weights:
+        weights.Set(Vt.FloatArray([weight]), time)
+    UsdSkel.BindingAPI.Apply(skeleton.GetPrim()).CreateAnimationSourceRel().SetTargets([animation.GetPath()])
+
+    columns = 12
+    xs = np.linspace(0.0, ARM_LENGTH, columns + 1)
+    points = np.array([[x, 1.2, z] for x in xs for z in (-0.15, 0.15)], float)
+    counts = [4] * columns
+    indices = [i for c in range(columns) for i in (2 * c, 2 * c + 2, 2 * c + 3, 2 * c + 1)]
+    arm = define_mesh(stage, "/World/Character/Arm", points, counts, indices)
+    binding = UsdSkel.BindingAPI.Apply(arm.GetPrim())
+    binding.CreateSkeletonRel().SetTargets([skeleton.GetPath()])
+    # each vertex blends the two joints around it: weight of the farther joint grows along the bone
+    x = points[:, 0]
+    lower = np.clip(np.floor(x), 0, 1).astype(int)                 # 0: shoulder..elbow, 1: elbow..wrist
+    fraction = np.clip(x - lower, 0.0, 1.0) * np.where(x > 2.0, 1.0, 0.8)
+    joint_indices = np.stack([lower, lower + 1], axis=1).ravel()
+    joint_weights = np.stack([1.0 - fraction, fraction], axis=1).ravel()
+    binding.CreateJointIndicesPrimvar(False, 2).Set(Vt.IntArray([int(i) for i in joint_indices]))
+    binding.CreateJointWeightsPrimvar(False, 2).Set(Vt.FloatArray([float(w) for w in joint_weights]))
+    binding.CreateGeomBindTransformAttr(Gf.Matrix4d(1))
+    tip = np.flatnonzero(x >= 2.5)
+    bulge = UsdSkel.BlendShape.Define(stage, "/World/Character/Arm/bulge")
+    bulge.CreateOffsetsAttr(Vt.Vec3fArray([(0.0, -0.4, 0.0)] * tip.size))
+    bulge.CreatePointIndicesAttr(Vt.IntArray([int(i) for i in tip]))
+    binding.CreateBlendShapesAttr(["bulge"])
+    binding.CreateBlendShapeTargetsRel().SetTargets([bulge.GetPath()])
+    result = {"arm": "/World/Character/Arm", "skeleton": "/World/Character/Skel"}
+
+    if rigid_bound_prop:
+        prop_points, prop_counts, prop_indices = box(0.3)
+        prop = define_mesh(stage, "/World/Character/Bracelet", prop_points + [2.2, 1.6, 0.0], prop_counts,
+                           prop_indices)
+        prop_binding = UsdSkel.BindingAPI.Apply(prop.GetPrim())
+        prop_binding.CreateSkeletonRel().SetTargets([skeleton.GetPath()])
+        prop_binding.CreateJointIndicesPrimvar(True, 1).Set(Vt.IntArray([2]))
+        prop_binding.CreateJointWeightsPrimvar(True, 1).Set(Vt.FloatArray([1.0]))
+        result["prop"] = "/World/Character/Bracelet"
+    if with_sheet:
+        stretching_sheet(stage, "/World/Sheet", size=8.0, columns=8, times=(1.0, 12.0))
+        result["sheet"] = "/World/Sheet"
+    stage.GetRootLayer().Save()
+    return result
+
+
+def baked_copy(source, target):
+    """UsdSkel.BakeSkinning into a copy of ``source`` at ``target`` (the input is never opened for writing)."""
+    shutil.copyfile(source, target)
+    stage = Usd.Stage.Open(str(target))
+    if not UsdSkel.BakeSkinning(stage.Traverse()):
+        raise RuntimeError(f"UsdSkel.BakeSkinning failed on {target}")
+    stage.GetRootLayer().Save()
+    return target
+
+
+# --------------------------------------------------------------------------------------------- PointInstancer
+
+INSTANCE_DROP = {"start": 1.0, "end": 11.0}
+
+
+def falling_instancer(path, velocities=None, invisible=(2,), inactive=(), proto_index_change=None,
+                      sheet=True):
+    """Instances of two prototypes fall straight down through a deforming sheet at y = 0.
+
+    Prototype 0 is the mesh ``box`` (edge 0.5, its own translate op); prototype 1 is the Xform ``crate``
+    with two meshes below (``crate/lid`` and ``crate/body/geo``, each with its own transform). The
+    prototypes are authored under ``/World/scatter/Prototypes`` straddling y = 0 where they are, so a
+    loader that checked them on their own would report contacts at the first sample. Instances have
+    orientations and scales; ``invisible`` ids are in invisibleIds at every sample. Instance i starts at
+    height ``start_heights[i]`` at time 1 and ends at -2 at time 11. ``velocities``: None (not authored),
+    "consistent" (the finite differences of the positions, per second) or "zero".
+    Returns the expected first-contact time of each visible instance with the plane y = 0 (closed form).
+    """
+    stage = new_stage(path)
+    stretching_sheet(stage, "/World/Sheet", size=12.0, columns=6, times=(1.0, 11.0)) if sheet else None
+    instancer = UsdGeom.PointInstancer.Define(stage, "/World/scatter")
+    UsdGeom.Xform.Define(stage, "/World/scatter/Prototypes")
+    box_points, counts, indices = box(0.5)
+    proto_box = define_mesh(stage, "/World/scatter/Prototypes/box", box_points, counts, indices)
+    UsdGeom.Xformable(proto_box).AddTranslateOp().Set(Gf.Vec3d(0.0, 0.1, 0.0))   # the prototype root's own xform
+    crate = UsdGeom.Xform.Define(stage, "/World/scatter/Prototypes/crate")
+    UsdGeom.Xformable(crate).AddRotateYOp().Set(30.0)
+    lid = define_mesh(stage, "/World/scatter/Prototypes/crate/lid", box_points * [1.2, 0.2, 1.2], counts, indices)
+    UsdGeom.Xformable(lid).AddTranslateOp().Set(Gf.Vec3d(0.0, 0.35, 0.0))
+    body = UsdGeom.Xform.Define(stage, "/World/scatter/Prototypes/crate/body")
+    UsdGeom.Xformable(body).AddScaleOp().Set(Gf.Vec3f(1.0, 1.2, 1.0))
+    define_mesh(stage, "/World/scatter/Prototypes/crate/body/geo", box_points, counts, indices)
+    instancer.CreatePrototypesRel().SetTargets([proto_box.GetPath(), crate.GetPath()])
+
+    xz = np.array([[-3.0, -3.0], [0.0, -3.0], [3.0, -3.0], [-3.0, 2.0], [2.0, 2.0]])
+    start_heights = np.array([3.0, 2.0, 2.5, 1.5, 4.0])
+    proto_indices = [0, 1, 0, 1, 0]
+    orientations = [Gf.Quath(Gf.Rotation(Gf.Vec3d(1, 0, 1), angle).GetQuat())
+                    for angle in (0.0, 25.0, 40.0, 60.0, 15.0)]
+    scales = [(1.0, 1.0, 1.0), (1.5, 0.8, 1.5), (1.0, 1.0, 1.0), (0.7, 1.3, 0.7), (2.0, 2.0, 2.0)]
+    instancer.CreateProtoIndicesAttr(Vt.IntArray(proto_indices))
+    if proto_index_change is not None:
+        time, index, prototype = proto_index_change
+        changed = list(proto_indices)
+        changed[index] = prototype
+        instancer.GetProtoIndicesAttr().Set(Vt.IntArray(proto_indices), INSTANCE_DROP["start"])
+        instancer.GetProtoIndicesAttr().Set(Vt.IntArray(changed), time)
+    instancer.CreateOrientationsAttr(Vt.QuathArray(orientations))
+    instancer.CreateScalesAttr(Vt.Vec3fArray(scales))
+    positions = instancer.CreatePositionsAttr()
+    start, end = INSTANCE_DROP["start"], INSTANCE_DROP["end"]
+    end_height = -2.0
+    for time, heights in ((start, start_heights), (end, np.full(5, end_height))):
+        positions.Set(Vt.Vec3fArray([(float(x), float(h), float(z)) for (x, z), h in zip(xz, heights)]), time)
+    if velocities is not None:
+        per_second = (end_height - start_heights) / (end - start) * stage.GetTimeCodesPerSecond()
+        value = per_second if velocities == "consistent" else np.zeros(5)
+        vectors = Vt.Vec3fArray([(0.0, float(v), 0.0) for v in value])
+        for time in (start, end):
+            instancer.CreateVelocitiesAttr().Set(vectors, time)
+    if invisible:
+        instancer.CreateInvisibleIdsAttr().Set(Vt.Int64Array(list(invisible)), start)
+        instancer.GetInvisibleIdsAttr().Set(Vt.Int64Array(list(invisible)), end)
+    for index in inactive:
+        instancer.DeactivateId(index)
+    stage.GetRootLayer().Save()
+
+    # closed form: the lowest world point of instance i is height_i(t) + lowest offset of its prototype
+    xforms = np.array(instancer.ComputeInstanceTransformsAtTime(
+        Usd.TimeCode(start), Usd.TimeCode(start), UsdGeom.PointInstancer.IncludeProtoXform,
+        UsdGeom.PointInstancer.IgnoreMask))
+    lowest = {}
+    for i, prototype in enumerate(proto_indices):
+        if i in invisible or i in inactive:
+            continue
+        if prototype == 0:
+            local = [box_points]
+        else:
+            local = [box_points * [1.2, 0.2, 1.2] + [0.0, 0.35, 0.0], box_points * [1.0, 1.2, 1.0]]
+        offsets = min(float(((np.hstack([p, np.ones((8, 1))]) @ xforms[i])[:, 1] - start_heights[i]).min())
+                      for p in local)
+        lowest[i] = offsets
+    expected = {}
+    for i, offset in lowest.items():
+        # height(t) = h0 + (end_height - h0) (t - start) / (end - start); contact when height + offset = 0
+        h0 = start_heights[i]
+        expected[i] = start + (-offset - h0) / (end_height - h0) * (end - start)
+    return expected
+
+
+# --------------------------------------------------------------------------------------------- placeholders, scope, layers
+
+EMPTY_KINDS = ("no points", "no faces", "only degenerate faces")
+
+
+def shot_with_empty_mesh(path, empty_kind, contact=True):
+    """A deforming sheet, a falling box that passes through it (``contact``) or stays above, and an empty
+    placeholder mesh /World/Layout/Placeholder of ``empty_kind`` (one of EMPTY_KINDS)."""
+    stage = new_stage(path)
+    stretching_sheet(stage, "/World/Sheet")
+    points, counts, indices = box(0.5)
+    end = -1.0 if contact else 0.5
+    define_mesh(stage, "/World/Box", None, counts, indices,
+                samples={1.0: points + [0.0, 1.0, 0.0], 24.0: points + [0.0, end, 0.0]})
+    UsdGeom.Xform.Define(stage, "/World/Layout")
+    placeholder = "/World/Layout/Placeholder"
+    if empty_kind == "no points":
+        define_mesh(stage, placeholder, np.zeros((0, 3)), [], [])
+    elif empty_kind == "no faces":
+        define_mesh(stage, placeholder, points, [], [])
+    else:   # two-vertex "faces": nothing to triangulate
+        define_mesh(stage, placeholder, points, [2, 2], [0, 1, 2, 3])
+    stage.GetRootLayer().Save()
+    return placeholder
+
+
+def rigid_bodies_and_cloth(path):
+    """Two rigid boxes (only their transforms animate) that collide with each other, a static floor box one
+    of them reaches, and a deforming cloth that one box falls through. Returns the mesh paths."""
+    stage = new_stage(path)
+    stretching_sheet(stage, "/World/Cloth", size=3.0, columns=3)
+    points, counts, indices = box(1.0)
+    # BoxA falls through the cloth onto the floor; BoxB slides across at y = 1 and meets BoxA on its way down
+    for name, start, end in (("BoxA", (0.0, 2.0, 0.0), (0.0, -1.5, 0.0)), ("BoxB", (3.0, 1.0, 0.0), (-3.0, 1.0, 0.0))):
+        mover = UsdGeom.Xform.Define(stage, f"/World/{name}")
+        translate = mover.AddTranslateOp()
+        translate.Set(Gf.Vec3d(*start), 1.0)
+        translate.Set(Gf.Vec3d(*end), 24.0)
+        define_mesh(stage, f"/World/{name}/geo", points, counts, indices)
+    define_mesh(stage, "/World/Floor", points * [8.0, 0.2, 8.0] + [0.0, -1.9, 0.0], counts, indices)
+    stage.GetRootLayer().Save()
+    return {"cloth": "/World/Cloth", "a": "/World/BoxA/geo", "b": "/World/BoxB/geo", "floor": "/World/Floor"}
+
+
+def wrapper_around_cache(directory, cache_rate=30.0, wrapper_rate=None, reference=False):
+    """A cache layer at ``cache_rate`` time codes per second with a falling quad through a deforming sheet
+    (samples at 10 and 20), and a wrapper layer that sublayers (or, with ``reference``, references) it and
+    authors ``wrapper_rate`` (None: no rate at all, USD then assumes 24). Returns (wrapper path, cache path)."""
+    directory = Path(directory)
+    cache_path = directory / "cache.usda"
+    cache = Usd.Stage.CreateNew(str(cache_path))
+    cache.SetTimeCodesPerSecond(cache_rate)
+    cache.SetFramesPerSecond(cache_rate)
+    UsdGeom.Xform.Define(cache, "/World")
+    stretching_sheet(cache, "/World/Sheet", times=(10.0, 20.0))
+    points, counts, indices = box(0.5)
+    define_mesh(cache, "/World/Box", None, counts, indices,
+                samples={10.0: points + [0.0, 1.0, 0.0], 20.0: points + [0.0, -1.0, 0.0]})
+    cache.GetRootLayer().Save()
+    wrapper_path = directory / "shot.usda"
+    wrapper = Sdf.Layer.CreateNew(str(wrapper_path))
+    if wrapper_rate is not None:
+        wrapper.timeCodesPerSecond = wrapper_rate
+    if reference:
+        stage = Usd.Stage.Open(wrapper)
+        stage.DefinePrim("/World").GetReferences().AddReference("./cache.usda", "/World")
+    else:
+        wrapper.subLayerPaths.append("./cache.usda")
+    wrapper.Save()
+    return wrapper_path, cache_path

@@ -14,8 +14,13 @@ imports first, to hold a Ctrl-C back while numpy and USD load) costs nothing.
 """
 
 from importlib import import_module
+from importlib.util import find_spec
 from typing import TYPE_CHECKING
 
+from ._openusd import require_openusd
+
+if find_spec("pxr") is None:   # cheap: finds the module without loading USD
+    require_openusd()          # one actionable line when neither usd-core nor a studio USD provides pxr
 from .version import __version__
 
 #: Public name -> the module that defines it (a module itself when the name is a sub-module).
@@ -44,6 +49,7 @@ def __getattr__(name):
     module_name = _EXPORTS.get(name)
     if module_name is None:
         raise AttributeError(f"module 'usdksl' has no attribute {name!r}")
+    require_openusd()   # one actionable line when neither usd-core nor a studio USD provides pxr
     module = import_module(module_name)
     value = module if module_name.endswith("." + name) else getattr(module, name)
     globals()[name] = value

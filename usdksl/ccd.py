@@ -53,6 +53,7 @@ class CCDAnswers:
     toi: np.ndarray  # float64[Q], fraction of the step; 1.0 where no hit
     reached_tolerance: np.ndarray  # float64[Q], width of the final time interval
     undecided: np.ndarray  # bool[Q], the iteration cap stopped the search
+    iterations: np.ndarray  # int64[Q], parameter boxes examined (what max_iterations caps)
 
 
 def _queries(queries) -> np.ndarray:
@@ -71,7 +72,7 @@ def _check_settings(tolerance, thickness):
 
 def vertex_face_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS,
                          max_iterations=DEFAULT_MAX_ITERATIONS) -> CCDAnswers:
-    """Vertex-face CCD with undecided flags and reached tolerances."""
+    """Vertex-face CCD with undecided flags, reached tolerances and iteration counts."""
     _check_settings(tolerance, thickness)
     return CCDAnswers(*_native.vertex_face_ccd_batch(_queries(queries), float(tolerance),
                                                      float(thickness), int(max_iterations)))
@@ -79,7 +80,7 @@ def vertex_face_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT
 
 def edge_edge_detailed(queries, tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS,
                        max_iterations=DEFAULT_MAX_ITERATIONS) -> CCDAnswers:
-    """Edge-edge CCD with undecided flags and reached tolerances."""
+    """Edge-edge CCD with undecided flags, reached tolerances and iteration counts."""
     _check_settings(tolerance, thickness)
     return CCDAnswers(*_native.edge_edge_ccd_batch(_queries(queries), float(tolerance),
                                                    float(thickness), int(max_iterations)))

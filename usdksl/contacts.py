@@ -14,7 +14,7 @@ so there is one order and one choice of row per pair (docs/contracts.md, Contact
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -104,6 +104,9 @@ class ContactTable:
     mesh_b: np.ndarray    # int32[C]
     face_b: np.ndarray    # int32[C]
     feature: np.ndarray   # int8[C], FEATURE_* code
+    #: float64[C]: the face pair's last contact (time codes), when it was computed (usdksl.checking.
+    #: last_contact); None otherwise. Not part of the canonical order.
+    last_time: Optional[np.ndarray] = None
 
     @classmethod
     def from_rows(cls, paths: Optional[Sequence[str]], time, mesh_a, face_a, mesh_b, face_b,
@@ -128,7 +131,11 @@ class ContactTable:
             return tables[0]
         if any(table.paths != tables[0].paths for table in tables):
             raise ValueError("segments of one shot loaded different meshes")
-        return cls(paths=tables[0].paths and list(tables[0].paths),
+        if len({table.last_time is None for table in tables}) > 1:
+            raise ValueError("segments disagree on whether last contacts were computed")
+        last_time = (None if tables[0].last_time is None
+                     else np.concatenate([table.last_time for table in tables]))
+        return cls(paths=tables[0].paths and list(tables[0].paths), last_time=last_time,
                    **{name: np.concatenate([getattr(table, name) for table in tables])
                       for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")})
 
@@ -148,6 +155,10 @@ class ContactTable:
     @property
     def is_self(self) -> np.ndarray:
         return self.mesh_a == self.mesh_b
+
+    def mesh_names(self) -> List[str]:
+        """The name of each mesh index: its prim path, or the index as text for a table without paths."""
+        return self._names()
 
     def _names(self) -> List[str]:
         if self.paths is not None:
@@ -171,28 +182,90 @@ class ContactTable:
         return names[self.mesh_a], names[self.mesh_b]
 
     def summary(self) -> List[dict]:
-        """One dict per mesh pair with contacts: prim_a, prim_b, kind, first_contact_time, face_pairs,
+        """One dict per mesh pair with contacts: prim_a, prim_b, kind, first_contact_time, face_pairs (and
+        last_contact_time, the latest last contact of its face pairs, when the table has last times),
         sorted by first_contact_time, then prim_a, prim_b."""
         if self.count == 0:
             return []
         names = self._names()
         pair_key = self.mesh_a.astype(np.int64) * max(len(names), 1) + self.mesh_b
         # rows are in time order, so the first row of each pair is its first contact
-        _, first, counts = np.unique(pair_key, return_index=True, return_counts=True)
+        _, first, inverse, counts = np.unique(pair_key, return_index=True, return_inverse=True,
+                                              return_counts=True)
+        latest = None
+        if self.last_time is not None:
+            latest = np.full(first.size, -np.inf)
+            np.maximum.at(latest, inverse.reshape(-1), self.last_time)
         rows = []
-        for index, count in zip(first.tolist(), counts.tolist()):
+        for group, (index, count) in enumerate(zip(first.tolist(), counts.tolist())):
             a, b = int(self.mesh_a[index]), int(self.mesh_b[index])
-            rows.append({"prim_a": names[a], "prim_b": names[b], "kind": KIND_SELF if a == b else KIND_INTER,
-                         "first_contact_time": float(self.time[index]), "face_pairs": int(count)})
+            row = {"prim_a": names[a], "prim_b": names[b], "kind": KIND_SELF if a == b else KIND_INTER,
+                   "first_contact_time": float(self.time[index]), "face_pairs": int(count)}
+            if latest is not None:
+                row["last_contact_time"] = float(latest[group])
+            rows.append(row)
         rows.sort(key=lambda row: (row["first_contact_time"], row["prim_a"], row["prim_b"]))
         return rows
 
     def records(self) -> List[dict]:
-        """One dict per row: time, prim_a, face_a, prim_b, face_b, kind, feature."""
+        """One dict per row: time, prim_a, face_a, prim_b, face_b, kind, feature (and last_time when the
+        table has last times)."""
         if self.count == 0:
             return []
         prim_a, prim_b = self.prim_names()
-        return [{"time": t, "prim_a": a, "face_a": fa, "prim_b": b, "face_b": fb, "kind": k, "feature": f}
-                for t, a, fa, b, fb, k, f in zip(self.time.tolist(), prim_a.tolist(), self.face_a.tolist(),
-                                                 prim_b.tolist(), self.face_b.tolist(), self.kinds().tolist(),
-                                                 self.feature_names().tolist())]
+        records = [{"time": t, "prim_a": a, "face_a": fa, "prim_b": b, "face_b": fb, "kind": k, "feature": f}
+                   for t, a, fa, b, fb, k, f in zip(self.time.tolist(), prim_a.tolist(), self.face_a.tolist(),
+                                                    prim_b.tolist(), self.face_b.tolist(), self.kinds().tolist(),
+                                                    self.feature_names().tolist())]
+        if self.last_time is not None:
+            for record, last in zip(records, self.last_time.tolist()):
+                record["last_time"] = last
+        return records
+
+    def pair_rows(self) -> np.ndarray:
+        """int64[C, 4]: (mesh_a, face_a, mesh_b, face_b) per row, the key of a face pair."""
+        return np.stack([self.mesh_a, self.face_a, self.mesh_b, self.face_b], axis=1).astype(np.int64)
+
+    def with_last_times(self, last_time: Optional[np.ndarray]) -> "ContactTable":
+        """This table with the last-contact column set (float64[C], time codes; None drops it)."""
+        if last_time is not None:
+            last_time = np.asarray(last_time, dtype=np.float64).reshape(-1)
+            if last_time.shape[0] != self.count:
+                raise ValueError(f"{last_time.shape[0]} last times for {self.count} rows")
+        return replace(self, last_time=last_time)
+
+
+def face_pair_ids(*tables: "ContactTable") -> List[np.ndarray]:
+    """Per table, int64[C]: one id per row, the same for rows of one face pair in any of the tables (their
+    mesh indices must refer to the same meshes)."""
+    keys = [table.pair_rows() for table in tables]
+    joined = np.concatenate(keys) if keys else np.zeros((0, 4), np.int64)
+    if joined.shape[0] == 0:
+        return [np.zeros(0, np.int64) for _ in tables]
+    ids = np.unique(joined, axis=0, return_inverse=True)[1].reshape(-1)
+    bounds = np.cumsum([0] + [key.shape[0] for key in keys])
+    return [ids[start:end] for start, end in zip(bounds[:-1], bounds[1:])]
+
+
+def match_face_pairs(table: "ContactTable", other: "ContactTable") -> Tuple[np.ndarray, np.ndarray]:
+    """(int64[C]: for each row of ``table`` the row of ``other`` with the same face pair, -1 when none;
+    bool[D]: the rows of ``other`` whose face pair ``table`` lacks). Both tables one row per face pair,
+    over the same meshes."""
+    ids, other_ids = face_pair_ids(table, other)
+    slot = np.full(int(max(ids.max(initial=-1), other_ids.max(initial=-1))) + 1, -1, np.int64)
+    slot[other_ids] = np.arange(other_ids.size)
+    found = slot[ids]
+    present = np.zeros(slot.size, bool)
+    present[ids] = True
+    return found, ~present[other_ids]
+
+
+def latest_per_face_pair(paths: Optional[Sequence[str]], last_time, mesh_a, face_a, mesh_b,
+                         face_b) -> "ContactTable":
+    """Rows in any order and orientation with their last-contact times, as one row per face pair in
+    canonical orientation whose ``time`` is the pair's latest last contact (the canonical function keeps
+    the earliest time, so it runs on negated times; negation is exact)."""
+    negated = ContactTable.from_rows(paths, -np.asarray(last_time, dtype=np.float64), mesh_a, face_a, mesh_b,
+                                     face_b, None)
+    return replace(negated, time=-negated.time)
+

@@ -39,3 +39,8 @@ class UsdkslInputError(Exception):
 
 class UsdkslUsageError(UsdkslInputError):
     """Wrong arguments (bad option value, unwritable output directory): exit code 2."""
+
+
+class UsdkslEmptyMeshError(UsdkslInputError):
+    """A mesh without points, without faces, or whose faces are all degenerate: the loader skips it with a
+    warning (placeholders are common in layouts) instead of failing the shot."""

@@ -52,11 +52,13 @@ py::tuple run_primitive_batch(const DoubleArray& queries, const CCDSettings& set
     py::array_t<double> toi(count);
     py::array_t<double> reached(count);
     py::array_t<bool> undecided(count);
+    py::array_t<int64_t> iterations(count);
     const double* data = queries.data();
     bool* hit_out = hit.mutable_data();
     double* toi_out = toi.mutable_data();
     double* reached_out = reached.mutable_data();
     bool* undecided_out = undecided.mutable_data();
+    int64_t* iterations_out = iterations.mutable_data();
     {
         py::gil_scoped_release release;
         for (py::ssize_t q = 0; q < count; ++q) {
@@ -69,9 +71,10 @@ py::tuple run_primitive_batch(const DoubleArray& queries, const CCDSettings& set
             toi_out[q] = r.toi;
             reached_out[q] = r.reached_tolerance;
             undecided_out[q] = r.undecided;
+            iterations_out[q] = r.iterations;
         }
     }
-    return py::make_tuple(hit, toi, reached, undecided);
+    return py::make_tuple(hit, toi, reached, undecided, iterations);
 }
 
 std::array<Vec3, 3> triangle_at(const double* data, py::ssize_t index) {
@@ -96,7 +99,7 @@ void define_ccd(py::module_& m) {
                 });
         },
         py::arg("queries"), py::arg("tolerance"), py::arg("thickness"), py::arg("max_iterations"),
-        "Vertex-face CCD over (Q,8,3) queries -> (hit, toi, reached_tolerance, undecided).");
+        "Vertex-face CCD over (Q,8,3) queries -> (hit, toi, reached_tolerance, undecided, iterations).");
     m.def(
         "edge_edge_ccd_batch",
         [](const DoubleArray& queries, double tolerance, double thickness, int64_t max_iterations) {
@@ -108,7 +111,7 @@ void define_ccd(py::module_& m) {
                 });
         },
         py::arg("queries"), py::arg("tolerance"), py::arg("thickness"), py::arg("max_iterations"),
-        "Edge-edge CCD over (Q,8,3) queries -> (hit, toi, reached_tolerance, undecided).");
+        "Edge-edge CCD over (Q,8,3) queries -> (hit, toi, reached_tolerance, undecided, iterations).");
 
     m.def(
         "triangle_pair_ccd_batch",

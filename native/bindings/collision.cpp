@@ -62,7 +62,7 @@ py::array_t<T> column(const std::vector<Contact>& contacts, F get) {
 
 py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, const std::string& method,
                           double t_begin, double t_end, double tolerance, double thickness, int64_t max_iterations,
-                          int32_t discrete_substeps, const py::object& progress) {
+                          int32_t discrete_substeps, const py::object& progress, int32_t threads) {
     std::vector<MeshAnimation> meshes;
     meshes.reserve(meshes_in.size());
     for (size_t i = 0; i < meshes_in.size(); ++i) meshes.push_back(to_mesh(meshes_in[i], i));
@@ -79,6 +79,7 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     options.ccd.thickness = thickness;
     options.ccd.max_iterations = max_iterations;
     options.discrete_substeps = discrete_substeps;
+    options.threads = threads;
     // Always called back, even without a progress object: with the GIL released Python's signal
     // handlers only run here, so a Ctrl-C, a SIGTERM or a timeout raises in this callback and the
     // exception unwinds through the core (docs/contracts.md, Stopping).
@@ -124,6 +125,7 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
 void define_collision(py::module_& m) {
     m.def("find_contacts", &find_contacts_py, py::arg("meshes"), py::arg("pairs"), py::arg("method"),
           py::arg("t_begin"), py::arg("t_end"), py::arg("tolerance"), py::arg("thickness"),
-          py::arg("max_iterations"), py::arg("discrete_substeps"), py::arg("progress"),
-          "First contact of every triangle pair of the given mesh pairs over [t_begin, t_end] (time codes).");
+          py::arg("max_iterations"), py::arg("discrete_substeps"), py::arg("progress"), py::arg("threads") = 1,
+          "First contact of every triangle pair of the given mesh pairs over [t_begin, t_end] (time codes), "
+          "on `threads` threads (<= 0: every hardware thread); the answer does not depend on the count.");
 }

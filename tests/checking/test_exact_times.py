@@ -266,3 +266,25 @@ def test_every_continuous_method_reports_bit_identical_times(shot):
     assert answers["brute"], "the shot must have contacts"
     assert answers["ksl"] == answers["brute"]
     assert answers["swept"] == answers["brute"]
+
+
+def hover_then_touch_shot(gap):
+    """A triangle descends, hovers `gap` above a 6-unit sheet from frame 5 to frame 29 (drifting
+    sideways so every sample differs), and touches it at frame 30 exactly."""
+    times = np.arange(0.0, 36.0)
+    frames = []
+    for t in times:
+        height = 0.2 * (5.0 - t) + gap if t < 5.0 else (gap if t < 30.0 else 0.0)
+        frames.append(tip_down_triangle([0.01 * t, height, 0.2]))
+    return [sheet(), animated(times, frames, [[0, 1, 2]])], 30.0
+
+
+@pytest.mark.parametrize("method", ["ksl", "swept", "brute"])
+def test_a_long_near_approach_is_not_the_first_touch(method):
+    # At the default tolerance the search cannot tell a gap of 1e-7 on a 6-unit sheet from contact;
+    # the confirming search can, so the reported time is the touch at frame 30, not frame 5.
+    meshes, touch = hover_then_touch_shot(gap=1e-7)
+    result = find_contacts(meshes, [(0, 1)], method=method)
+    assert len(result) >= 1
+    first = float(result.time.min())
+    assert touch - TOLERANCE <= first <= touch

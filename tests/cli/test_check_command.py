@@ -17,8 +17,10 @@ from pxr import Ts, Usd, UsdGeom, Vt
 from usdksl.cli.main import main
 from usdksl.checking.collision import find_contacts
 from usdksl.reading.loader import load_shot
+from usdksl.clock import StageClock
 from usdksl.contacts import ContactTable
 from usdksl.reports.formats import contacts_csv
+from usdksl.reports.override import CLEAN_COLOR, CONTACT_COLOR
 from usdksl.reading.scope import plan_shot
 
 from builders import (QUAD_POINTS, STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, falling_quad_samples,
@@ -57,11 +59,14 @@ def test_samples_exit_codes_outputs_and_determinism(sample, tmp_path):
         two = (tmp_path / "two" / f"{name}.{suffix}").read_bytes()
         assert one == two, suffix
     rows = (tmp_path / "one" / f"{name}.contacts.csv").read_text().splitlines()
-    assert rows[0] == "time,prim_a,face_a,prim_b,face_b,kind,feature"
+    assert rows[0] == "time,prim_a,face_a,prim_b,face_b,kind,feature,frame,seconds"
     assert (len(rows) > 1) == (first.exit_code == 1)
     assert sha256(path) == before
     assert first.stderr.splitlines()[-1].startswith("usdksl: ")
-    assert "pairs checked:" in first.stderr
+    assert "pairs checked:" not in first.stderr              # the plan is printed with -v only
+    verbose = run([path, "--out", tmp_path / "three", "-v"])
+    assert "pairs checked:" in verbose.stderr
+    assert verbose.stderr.splitlines()[-1].startswith("usdksl: wrote ")
 
 
 def test_samples_contacts_equal_the_brute_force_reference(sample, tmp_path):
@@ -73,7 +78,7 @@ def test_samples_contacts_equal_the_brute_force_reference(sample, tmp_path):
     reference = find_contacts(shot.meshes, plan.pairs, method="brute")
     expected = ContactTable.from_face_contacts(reference.face_contacts(shot.meshes), [m.path for m in shot.meshes])
     ours = _csv_rows((tmp_path / f"{name}.contacts.csv").read_text())
-    theirs = _csv_rows(contacts_csv(expected))
+    theirs = _csv_rows(contacts_csv(expected, StageClock.from_metadata(shot.metadata)))
     # Same face pairs, kinds and features; brute force reads the raw samples while KSL
     # merges collinear flightplan segments, so times agree within the CCD tolerance of a step.
     assert sorted(ours) == sorted(theirs)
@@ -135,10 +140,10 @@ def test_json_to_stdout_and_junit_file(two_quads_shot, tmp_path):
 
 
 def test_options_change_the_plan(two_quads_shot, tmp_path):
-    result = run([two_quads_shot, "--out", tmp_path / "a", "--no-inter"])
+    result = run([two_quads_shot, "--out", tmp_path / "a", "--no-inter", "-v"])
     assert result.exit_code == 0
     assert "inter checks off (--no-inter)" in result.stderr
-    excluded = run([two_quads_shot, "--out", tmp_path / "b", "--prims", "!/World/Floor"])
+    excluded = run([two_quads_shot, "--out", tmp_path / "b", "--prims", "!/World/Floor", "-v"])
     assert excluded.exit_code == 0
     assert "skip mesh /World/Floor: excluded by --prims/--exclude" in excluded.stderr
     early = run([two_quads_shot, "--out", tmp_path / "c", "--time-range", "1", "10"])
@@ -165,7 +170,7 @@ def test_single_sample_mesh_is_static_and_said_so(tmp_path):
     add_mesh(stage, "/World/Once", None, samples={5.0: QUAD_POINTS})
     add_mesh(stage, "/World/Falling", None, samples=falling_quad_samples(offset=(3, 0, 0)))
     stage.GetRootLayer().Save()
-    result = run([path, "--out", tmp_path / "out"])
+    result = run([path, "--out", tmp_path / "out", "-v"])
     assert result.exit_code == 0, result.stderr
     assert "/World/Once: a single time sample: treated as static" in result.stderr
 
@@ -225,8 +230,9 @@ def bad_index_out_of_range(path):
     return path
 
 
-def bad_empty_mesh(path):
-    stage = _mesh_stage(path)
+def bad_only_empty_mesh(path):
+    # An empty mesh beside good ones is skipped with a warning (tests/reading); with nothing else it is bad input.
+    stage = new_stage(path)
     UsdGeom.Mesh.Define(stage, "/World/Bad")
     stage.GetRootLayer().Save()
     return path
@@ -258,7 +264,7 @@ BAD_INPUTS = {
     "NaN points": (_with_bad_points(math.nan), "/World/Bad", 7.5, "NaN"),
     "inf points": (_with_bad_points(math.inf), "/World/Bad", 7.5, "infinite"),
     "points do not match topology": (bad_index_out_of_range, "/World/Bad", 1.0, "out of range"),
-    "empty mesh": (bad_empty_mesh, "/World/Bad", None, "empty mesh"),
+    "only an empty mesh": (bad_only_empty_mesh, "/World/Bad", None, "empty mesh"),
     "held spline": (bad_held_spline, "/World/Mover", 1.0, "held interpolation"),
 }
 
@@ -293,8 +299,14 @@ def test_bad_input_matrix(case, tmp_path):
     shot, shot_dir, out_dir = _prepare(builder, tmp_path)
     before_shot, before_out = snapshot(shot_dir), snapshot(out_dir)
     for out_args in ([], ["--out", out_dir]):     # default output folder (beside the shot) and --out
+        report = out_dir / "r.xml"
         result = CliRunner().invoke(main, ["check", str(shot), *map(str, out_args), "--json", str(out_dir / "r.json"),
-                                           "--junit", str(out_dir / "r.xml")])
+                                           "--junit", str(report)])
+        # the JUnit report is written on every exit code: one <error> test case with the error line
+        errors = ElementTree.parse(report).getroot().findall("testsuite/testcase/error")
+        assert len(errors) == 1 and errors[0].get("type") == "input-error"
+        assert f"usdksl: error: {errors[0].get('message')}" in result.stderr.splitlines()
+        report.unlink()
         _assert_clean_failure(result.exit_code, result.stderr, shot, prim, time, words, before_shot, before_out,
                               shot_dir, out_dir)
 
@@ -353,7 +365,7 @@ def test_entry_point_on_a_shot_with_contacts(two_quads_shot, tmp_path):
     assert completed.stdout == ""
     assert "\r" not in completed.stderr                     # no progress bar in CI / pipes
     last = completed.stderr.splitlines()[-1]
-    assert last.startswith("usdksl: ") and "first at t=" in last
+    assert last.startswith("usdksl: ") and "first at frame 11.5 (t=12.5)" in last
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == [
         "two_quads.contacts.csv", "two_quads.summary.csv", "two_quads.usdksl.usda"]
 
@@ -398,7 +410,9 @@ def test_topology_change_is_checked_per_segment_with_a_warning(tmp_path):
     assert len(primvar.Get(3.0)) == 2 and all(math.isnan(v) for v in primvar.Get(3.0))
     assert len(primvar.Get(20.0)) == 4 and list(primvar.Get(20.0)) == pytest.approx([20.0] * 4, abs=1e-4)
     colors = UsdGeom.PrimvarsAPI(layered.GetPrimAtPath("/World/Changing")).GetPrimvar("displayColor")
-    assert len(colors.Get(3.0)) == 2 and len(colors.Get(20.0)) == 4
+    # per face of the topology in force: both faces grey at 3, all four red by the end
+    assert np.allclose(np.asarray(colors.ComputeFlattened(3.0)), [CLEAN_COLOR] * 2)
+    assert np.allclose(np.asarray(colors.ComputeFlattened(24.0)), [CONTACT_COLOR] * 4)
     prim = layered.GetPrimAtPath("/World/Changing")
     assert prim.GetAttribute("usdksl:firstContactTime").Get() == pytest.approx(20.0, abs=1e-4)
 
@@ -422,7 +436,8 @@ def test_fifty_mesh_plan_is_printed_with_its_counter(tmp_path):
     path = tmp_path / "fifty.usda"
     fifty_mesh_scene(path)
     junit = tmp_path / "junit.xml"
-    result = run([path, "--out", tmp_path / "out", "--junit", junit])
+    # --rigid: the rigid mover's 48 pairs with the static meshes are left out by default
+    result = run([path, "--out", tmp_path / "out", "--junit", junit, "--rigid", "-v"])
     assert result.exit_code == 1, result.stderr          # the falling cloth passes through M00
     assert "usdksl: pairs checked: 98 of 1275 possible (50 meshes, 2 moving)" in result.stderr
     assert f"skip {48 * 47 // 2} pairs: both never move" in result.stderr

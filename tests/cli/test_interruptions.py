@@ -132,7 +132,7 @@ def test_a_signal_stops_one_shot_with_one_line_and_leaves_nothing(slow_shot, tmp
     shot.parent.mkdir()
     shutil.copyfile(slow_shot, shot)
     out = tmp_path / "out"
-    run = Run([shot, "--out", out, "--method", method], tmp_path)
+    run = Run([shot, "-v", "--out", out, "--method", method], tmp_path)   # -v: the plan is the cue to signal
     run.wait_for(lambda: any(PLAN_LINE in line for line in run.lines), "plan")
     exit_code, elapsed = run.stop(signum, group=group)
     assert exit_code == code, run.lines

@@ -25,7 +25,8 @@ def test_static_rigid_deforming_rules():
     paths = ["/A_static", "/B_static", "/C_rigid", "/D_deform"]
     kinds = ["static", "static", "rigid", "deforming"]
     moving = np.array([False, False, True, True])
-    plan = plan_pairs(paths, kinds, moving, SceneFlags.permissive(4))
+    # --rigid: the rigid mesh's pairs with the still ones are checked too (tests/reading covers the default)
+    plan = plan_pairs(paths, kinds, moving, SceneFlags.permissive(4), ScopeOptions(rigid=True))
     assert pairs_of(plan) == {(0, 2), (0, 3), (1, 2), (1, 3), (2, 3), (3, 3)}
     skipped = reasons_of(plan)
     assert skipped[(0, 1)] == PAIR_STATIC_STATIC
@@ -99,7 +100,7 @@ def test_fifty_meshes_two_animated_checks_only_pairs_that_can_change(tmp_path):
     path = tmp_path / "fifty.usda"
     fifty_mesh_scene(path)
     shot = load_shot(str(path))
-    plan = plan_shot(shot)
+    plan = plan_shot(shot, ScopeOptions(rigid=True))   # the mover's pairs with the statics need --rigid
     assert plan.mesh_count == 50
     assert plan.possible_pairs == 50 * 51 // 2
     cloth = [m.path for m in shot.meshes].index("/World/Anim/Cloth")

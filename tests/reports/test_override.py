@@ -7,7 +7,7 @@ import numpy as np
 from pxr import Sdf, Usd, UsdGeom, Vt
 
 from usdksl.reading.loader import load_shot
-from usdksl.reports.override import build_override_layer, face_first_contact_times, relative_sublayer_path
+from usdksl.reports.override import CLEAN_COLOR, CONTACT_COLOR, REVIEW_MATERIAL, REVIEW_SCOPE, build_override_layer, face_first_contact_times, relative_sublayer_path
 from usdksl.contacts import ContactTable
 
 from builders import STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, new_stage, sha256
@@ -112,11 +112,13 @@ def test_clean_mesh_has_no_first_contact_time_and_nan_faces(tmp_path):
     assert prim.GetRelationship("usdksl:contactsWith").GetTargets() == []
     values = UsdGeom.PrimvarsAPI(prim).GetPrimvar("usdksl:firstContactTime").Get()
     assert len(values) == 2 and all(math.isnan(v) for v in values)
-    # only overs: the layer defines nothing new
+    # only overs on the cache's prims: the layer defines nothing but its review material
     layer = Sdf.Layer.FindOrOpen(str(layer_path))
     specs = []
     layer.Traverse("/", lambda path: specs.append(layer.GetPrimAtPath(path)) if path.IsPrimPath() else None)
-    assert specs and all(spec.specifier == Sdf.SpecifierOver for spec in specs)
+    cache_specs = [spec for spec in specs if not spec.path.HasPrefix(REVIEW_SCOPE)]
+    assert cache_specs and all(spec.specifier == Sdf.SpecifierOver for spec in cache_specs)
+    assert layered.GetPrimAtPath(REVIEW_MATERIAL).GetTypeName() == "Material"
 
 
 def test_indexed_display_color_of_the_input_is_replaced(tmp_path):
@@ -127,10 +129,11 @@ def test_indexed_display_color_of_the_input_is_replaced(tmp_path):
     layered = Usd.Stage.Open(str(layer_path))
     primvar = UsdGeom.PrimvarsAPI(layered.GetPrimAtPath("/World/Box")).GetPrimvar("displayColor")
     assert primvar.GetInterpolation() == UsdGeom.Tokens.uniform
-    assert not primvar.IsIndexed()
-    flattened = np.asarray(primvar.ComputeFlattened())
-    assert flattened.shape == (2, 3)
-    assert not np.allclose(flattened[0], flattened[1])     # face 1 touches, face 0 does not
+    # our indices replace the input's: face 1 touches (from 14 on), face 0 never does
+    for time, face_1 in ((Usd.TimeCode.Default(), CONTACT_COLOR), (13.0, CLEAN_COLOR), (14.0, CONTACT_COLOR)):
+        flattened = np.asarray(primvar.ComputeFlattened(time))
+        assert flattened.shape == (2, 3)
+        assert np.allclose(flattened[0], CLEAN_COLOR) and np.allclose(flattened[1], face_1), time
 
 
 def test_face_first_contact_times_takes_the_minimum_over_both_sides():

@@ -3,12 +3,15 @@
 import csv
 import io
 import json
-from xml.etree import ElementTree
 
 import numpy as np
 
+from usdksl.clock import StageClock
 from usdksl.contacts import ContactTable
-from usdksl.reports.formats import contacts_csv, format_times, json_report, junit_report, summary_csv, summary_line
+from usdksl.reports.formats import contacts_csv, format_times, json_report, summary_csv, summary_line
+from usdksl.reports.junit import junit_report
+
+from junit_schema import assert_valid_junit
 from usdksl.reading.scope import SceneFlags, plan_pairs
 
 
@@ -20,6 +23,8 @@ def contacts(rows):
 
 # mesh 0 is "/Z/Cloth", mesh 1 is "/A/Box": index order differs from string order on purpose
 PATHS = ["/Z/Cloth", "/A/Box"]
+# frames and seconds differ from time codes: the stage starts at 0.5, 48 time codes a second, 24 fps
+CLOCK = StageClock(start_time_code=0.5, time_codes_per_second=48.0, frames_per_second=24.0)
 
 
 def test_prim_order_face_order_sorting_and_dedup():
@@ -30,12 +35,12 @@ def test_prim_order_face_order_sorting_and_dedup():
         (0.5, 1, 3, 0, 7, 1),      # the same face pair as row 1, earlier: kept, row 1 dropped
         (1.0, 1, 0, 0, 2, 3),
     ]), PATHS)
-    rows = list(csv.reader(io.StringIO(contacts_csv(table))))
-    assert rows[0] == ["time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature"]
+    rows = list(csv.reader(io.StringIO(contacts_csv(table, CLOCK))))
+    assert rows[0] == ["time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature", "frame", "seconds"]
     assert rows[1:] == [
-        ["0.5", "/A/Box", "3", "/Z/Cloth", "7", "inter", "face-vertex"],
-        ["1.0", "/A/Box", "0", "/Z/Cloth", "2", "inter", "initial"],
-        ["1.0", "/Z/Cloth", "4", "/Z/Cloth", "9", "self", "edge-edge"],
+        ["0.5", "/A/Box", "3", "/Z/Cloth", "7", "inter", "face-vertex", "0.0", "0.0"],
+        ["1.0", "/A/Box", "0", "/Z/Cloth", "2", "inter", "initial", "0.25", "0.010416666666666666"],
+        ["1.0", "/Z/Cloth", "4", "/Z/Cloth", "9", "self", "edge-edge", "0.25", "0.010416666666666666"],
     ]
 
 
@@ -55,16 +60,18 @@ def test_times_are_repr_exact_and_round_trip():
 def test_summary_rows():
     table = ContactTable.from_face_contacts(contacts([
         (3.0, 0, 1, 1, 1, 2), (2.0, 0, 2, 1, 2, 2), (5.0, 0, 1, 0, 5, 2), (4.0, 1, 4, 0, 4, 2)]), PATHS)
-    rows = list(csv.reader(io.StringIO(summary_csv(table))))
-    assert rows == [["prim_a", "prim_b", "kind", "first_contact_time", "face_pairs"],
-                    ["/A/Box", "/Z/Cloth", "inter", "2.0", "3"],
-                    ["/Z/Cloth", "/Z/Cloth", "self", "5.0", "1"]]
+    rows = list(csv.reader(io.StringIO(summary_csv(table, CLOCK))))
+    assert rows == [["prim_a", "prim_b", "kind", "first_contact_time", "face_pairs", "first_contact_frame",
+                     "first_contact_seconds"],
+                    ["/A/Box", "/Z/Cloth", "inter", "2.0", "3", "0.75", "0.03125"],
+                    ["/Z/Cloth", "/Z/Cloth", "self", "5.0", "1", "2.25", "0.09375"]]
 
 
 def test_empty_table_has_headers_only():
     table = ContactTable.from_face_contacts(contacts([]), PATHS)
-    assert contacts_csv(table) == "time,prim_a,face_a,prim_b,face_b,kind,feature\n"
-    assert summary_csv(table) == "prim_a,prim_b,kind,first_contact_time,face_pairs\n"
+    assert contacts_csv(table, CLOCK) == "time,prim_a,face_a,prim_b,face_b,kind,feature,frame,seconds\n"
+    assert summary_csv(table, CLOCK) == ("prim_a,prim_b,kind,first_contact_time,face_pairs,first_contact_frame,"
+                                         "first_contact_seconds\n")
 
 
 def test_large_table_is_deterministic_and_sorted():
@@ -74,11 +81,11 @@ def test_large_table_is_deterministic_and_sorted():
                            rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 3, count).astype(np.int32),
                            rng.integers(0, 5000, count).astype(np.int32), rng.integers(0, 4, count).astype(np.int8))
     paths = ["/c", "/a", "/b"]
-    first = contacts_csv(ContactTable.from_face_contacts(raw, paths))
+    first = contacts_csv(ContactTable.from_face_contacts(raw, paths), CLOCK)
     permutation = rng.permutation(count)
     shuffled = ContactTable(None, *(getattr(raw, name)[permutation] for name in
                                   ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")))
-    second = contacts_csv(ContactTable.from_face_contacts(shuffled, paths))
+    second = contacts_csv(ContactTable.from_face_contacts(shuffled, paths), CLOCK)
     # the same face pair at the same time with different features can appear; ties break on feature
     assert first == second
     rows = list(csv.reader(io.StringIO(first)))[1:]
@@ -94,33 +101,37 @@ def _plan():
 
 def test_junit_one_case_per_checked_pair_with_failures():
     table = ContactTable.from_face_contacts(contacts([(2.0, 0, 7, 1, 3, 0), (3.0, 0, 8, 1, 3, 0)]), PATHS)
-    root = ElementTree.fromstring(junit_report("shot.usda", _plan(), table))
+    root = assert_valid_junit(junit_report("shot.usda", _plan(), table, CLOCK))
     suites = root.findall("testsuite")
     assert len(suites) == 1 and suites[0].get("name") == "shot.usda"
     cases = suites[0].findall("testcase")
     assert sorted(c.get("name") for c in cases) == ["/A/Box x /Z/Cloth", "/Z/Cloth"]
     failed = {c.get("name"): c.find("failure") for c in cases}
     assert failed["/Z/Cloth"] is None
-    assert failed["/A/Box x /Z/Cloth"].get("message") == "2 face pairs in contact, first at time 2.0"
+    assert failed["/A/Box x /Z/Cloth"].get("message") == "2 face pairs in contact, first at frame 0.75 (t=2)"
     assert suites[0].get("tests") == "2" and suites[0].get("failures") == "1"
 
 
 def test_json_document():
     table = ContactTable.from_face_contacts(contacts([(2.0, 0, 7, 1, 3, 0)]), PATHS)
-    document = json.loads(json_report("shot.usda", {"method": "ksl"}, _plan(), table, 1, version="0.1"))
+    document = json.loads(json_report("shot.usda", {"method": "ksl"}, _plan(), table, 1, CLOCK,
+                                      version="0.1"))
     assert document["shot"] == "shot.usda" and document["settings"] == {"method": "ksl"}
     assert document["plan"]["pairs_checked"] == 2 and document["plan"]["pairs_possible"] == 3
+    assert document["clock"] == {"startTimeCode": 0.5, "timeCodesPerSecond": 48.0, "framesPerSecond": 24.0}
     assert document["summary"] == [{"prim_a": "/A/Box", "prim_b": "/Z/Cloth", "kind": "inter",
-                                    "first_contact_time": 2.0, "face_pairs": 1}]
+                                    "first_contact_time": 2.0, "face_pairs": 1, "first_contact_frame": 0.75,
+                                    "first_contact_seconds": 0.03125}]
     assert document["contacts"] == [{"time": 2.0, "prim_a": "/A/Box", "face_a": 3, "prim_b": "/Z/Cloth",
-                                     "face_b": 7, "kind": "inter", "feature": "face-vertex"}]
+                                     "face_b": 7, "kind": "inter", "feature": "face-vertex", "frame": 0.75,
+                                     "seconds": 0.03125}]
     assert document["exit_code"] == 1
 
 
 def test_summary_line():
     plan = _plan()
-    clean = summary_line(ContactTable.empty(PATHS), plan, (0.0, 48.0), 1.23)
+    clean = summary_line(ContactTable.empty(PATHS), plan, (0.0, 48.0), 1.23, CLOCK)
     assert clean == "usdksl: clean: no contacts; checked 2 pairs over 0..48 in 1.2s"
     table = ContactTable.from_face_contacts(contacts([(14.5, 0, 7, 1, 3, 0), (15.0, 0, 8, 1, 3, 0)]), PATHS)
-    line = summary_line(table, plan, (0.0, 48.0), 0.5)
-    assert line.startswith("usdksl: 2 contacting face pairs in 1 mesh pair, first at t=14.5;")
+    line = summary_line(table, plan, (0.0, 48.0), 0.5, CLOCK)
+    assert line.startswith("usdksl: 2 contacting face pairs in 1 mesh pair, first at frame 7 (t=14.5);")

@@ -8,8 +8,9 @@ read; the stage it opens stays open, so the loader that follows reuses its layer
 
 - per vertex-sample (one vertex at one time sample): the loader's float64 points, the core's copy,
   the merged and the raw flightplans;
-- per triangle (not per sample: the trees and lists exist once): the kinetic trees, separation lists
-  and event queue of KSL, the swept-volume trees of the other methods;
+- per triangle and thread (not per sample: the trees and lists exist once per time window, and each
+  thread checks one window at a time): the kinetic trees, separation lists and event queue of KSL,
+  the swept-volume trees of the other methods;
 - a fixed part: modules imported during the check, the stage, the reports.
 
 Contacts cost on top (reports, override layer; about a kilobyte per contacting triangle pair), which
@@ -38,11 +39,12 @@ MEMORY_LIMIT_VARIABLE = "USDKSL_MEMORY_LIMIT"
 #: ``--memory-limit`` / MEMORY_LIMIT_VARIABLE value that turns the check off.
 NO_LIMIT = "off"
 
-#: The model, per method: bytes per vertex-sample and per triangle, fitted on tablecloth shots (2k to
-#: 16k faces, 11 to 101 samples; benchmarks/memory_model.py printed 81 and 3,481 for KSL, 115 and 414
-#: for swept, and a fixed 10.3 MiB), rounded up a little. Discrete and brute hold what swept holds.
+#: The model, per method: bytes per vertex-sample, and per triangle and thread (each thread checks a
+#: time window with trees and lists of its own), fitted on tablecloth shots (2k to 4k faces, 11 to 51
+#: samples, 1 and 2 threads; benchmarks/memory_model.py --quick printed 27-67 B and 7,790-8,216 B for KSL, 113 B
+#: and 221 B for swept, and a fixed 4.7 to 13.5 MiB), rounded up. Discrete and brute hold what swept holds.
 BYTES_PER_VERTEX_SAMPLE = {"ksl": 85, "swept": 120, "discrete": 120, "brute": 120}
-BYTES_PER_TRIANGLE = {"ksl": 3600, "swept": 450, "discrete": 450, "brute": 450}
+BYTES_PER_TRIANGLE = {"ksl": 8000, "swept": 450, "discrete": 450, "brute": 450}
 FIXED_BYTES = 12 * 2 ** 20
 
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*$", re.IGNORECASE)
@@ -184,24 +186,27 @@ def _samples_in(times: np.ndarray, time_range: Optional[TimeRange]) -> int:
     return inside + (1 if time_range[0] == time_range[1] else 2)
 
 
-def estimated_bytes(size: ShotSize, method: str = "ksl") -> int:
-    """Peak memory the check of ``size`` adds to the process (the model above)."""
+def estimated_bytes(size: ShotSize, method: str = "ksl", threads: int = 1) -> int:
+    """Peak memory the check of ``size`` on ``threads`` threads adds to the process (the model above):
+    each thread checks one time window at a time with trees and lists of its own."""
     return int(FIXED_BYTES + BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
                * size.vertex_samples
-               + BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles)
+               + BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles
+               * max(int(threads), 1))
 
 
-def check_memory(size: ShotSize, method: str, limit: Optional[int], file: Optional[str] = None) -> int:
-    """Raise UsdkslUsageError (exit 2) when the check of ``size`` needs more than ``limit`` bytes (None:
-    no check). The line says how much is needed and there is, and how to split the work. Returns the
-    estimate."""
-    needed = estimated_bytes(size, method)
+def check_memory(size: ShotSize, method: str, limit: Optional[int], file: Optional[str] = None,
+                 threads: int = 1) -> int:
+    """Raise UsdkslUsageError (exit 2) when the check of ``size`` on ``threads`` threads needs more than
+    ``limit`` bytes (None: no check). The line says how much is needed and there is, and how to split the
+    work. Returns the estimate."""
+    needed = estimated_bytes(size, method, threads)
     if limit is None or needed <= limit:
         return needed
     what = (f"needs about {format_bytes(needed)} of memory to check ({size.meshes} meshes, "
             f"{size.vertex_samples:,} vertex samples, {size.triangles:,} triangles) but "
             f"{format_bytes(limit)} is available")
-    fixed = estimated_bytes(ShotSize(meshes=size.meshes, triangles=size.triangles), method)
+    fixed = estimated_bytes(ShotSize(meshes=size.meshes, triangles=size.triangles), method, threads)
     if fixed >= limit or size.span is None or size.span[1] <= size.span[0]:
         advice = "check fewer meshes at a time with --prims/--exclude"
     else:
@@ -212,5 +217,7 @@ def check_memory(size: ShotSize, method: str, limit: Optional[int], file: Option
         advice = (f"check it in about {chunks} parts with --time-range A B ({example}"
                   f"{', ...' if chunks > 3 else ''}; farm chunks join with usdksl merge), or fewer meshes "
                   f"with --prims/--exclude")
+    if threads > 1 and estimated_bytes(size, method, 1) <= limit:
+        advice = f"use --threads 1 (it fits on one thread), or {advice}"
     raise UsdkslUsageError(f"{what}; {advice} (--memory-limit or {MEMORY_LIMIT_VARIABLE} overrides "
                            f"the available figure)", file=file)

@@ -13,11 +13,13 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from ..baseline import Baseline, BaselineComparison, compare
 from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from ..clock import StageClock
 from ..contacts import ContactTable
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
@@ -26,20 +28,40 @@ from ..reading.interpolation import reject_spline_motion
 from ..reading.loader import load_shot, mesh_prims, open_stage
 from ..reading.scope import Plan, ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
 from ..reading.segments import full_range, is_topology_change, split_range, topology_gaps
-from ..reports.formats import contacts_csv, json_report, junit_report, summary_csv, summary_line
+from ..reports.formats import contacts_csv, json_report, mesh_pair_lines, summary_csv, summary_line
+from ..reports.junit import junit_report
+from ..reports.manifest import file_sha256, manifest_name, manifest_text
 from ..reports.output import check_writable_directory, resolve_output_path
-from ..reports.override import build_override_layer, shot_stem
+from ..reports.timeline import require_matplotlib, timeline_png
+from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import __version__
-from .collision import METHODS, find_contacts
+from .collision import METHODS, default_threads, find_contacts
+from .last_contact import last_contacts
 from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
 
 TimeRange = Tuple[float, float]
+#: What write_files publishes at a target: text, bytes, or None (remove the file if there is one).
+FileData = Optional[Union[str, bytes]]
 
-# Message levels: how a line is shown (``usdksl: warning: ...``) and whether a batch of shots shows it.
+# Message levels: how a line is shown (``usdksl: warning: ...``) and at which verbosity (cli/check.py):
+# plan and info lines with -v; results (the baseline's new and fixed contacts) and warnings by default;
+# errors always.
 PLAN = "plan"
 INFO = "info"
+RESULT = "result"
 WARNING = "warning"
 ERROR = "error"
+#: Console verbosity (usdksl check -q, default, -v) and the least verbosity that shows each level.
+QUIET = 0
+NORMAL = 1
+VERBOSE = 2
+LEVEL_VERBOSITY = {ERROR: QUIET, WARNING: NORMAL, RESULT: NORMAL, INFO: VERBOSE, PLAN: VERBOSE}
+#: Baseline lines shown by default (new face pairs, fixed entries, each); -v shows up to BASELINE_LINES_VERBOSE.
+BASELINE_LINES_SHOWN = 5
+BASELINE_LINES_VERBOSE = 200
+
+#: How the progress bar of the backwards run (last contacts) is labelled; it shows reversed time codes.
+REVERSE_PROGRESS_LABEL = "last contacts, reversed time"
 
 #: CheckResult.counters entry: triangle pairs reported as contacts because the narrow phase hit its cap.
 UNDECIDED_COUNTER = "undecided_triangle_pairs"
@@ -51,6 +73,10 @@ class Message:
 
     level: str
     text: str
+
+    def shown(self, verbosity: int) -> bool:
+        """Whether ``usdksl check`` at this verbosity prints it (LEVEL_VERBOSITY)."""
+        return verbosity >= LEVEL_VERBOSITY.get(self.level, VERBOSE)
 
     def line(self, shot: Optional[str] = None) -> str:
         """As ``usdksl check`` prints it on stderr (after the shot's name when it checks several)."""
@@ -73,10 +99,18 @@ class CheckOptions:
     exclude: Tuple[str, ...] = ()
     include_guides: bool = False
     include_invisible: bool = False
+    #: Also check pairs in which neither mesh deforms (rigid or still against rigid or still).
+    rigid: bool = False
     crosscheck: bool = False
+    #: Also find each face pair's last contact by checking the shot played backwards
+    #: (usdksl.checking.last_contact): a second run of the core, about as long as the first.
+    last_contact: bool = False
     #: Turn warnings that mean the answer cannot be trusted (a simulation blow-up, nothing left to
     #: check) into input errors (exit 2), for CI. Does not change any result, so not in settings().
     strict: bool = False
+    #: Threads of the core (None: every core this process may use). Does not change any result, so
+    #: not in settings().
+    threads: Optional[int] = None
     #: Memory the check may use: a size ("8G", bytes), "off", or None for what the machine has
     #: (usdksl.checking.memory_budget). Does not change any result, so not in settings().
     memory_limit: Optional[str] = None
@@ -102,7 +136,8 @@ class CheckOptions:
                 "self": self.self_check, "inter": self.inter_check,
                 "time_range": list(self.time_range) if self.time_range else None,
                 "prims": list(include), "exclude": list(excluded), "include_guides": self.include_guides,
-                "include_invisible": self.include_invisible}
+                "include_invisible": self.include_invisible, "rigid": self.rigid,
+                "last_contact": self.last_contact}
 
 
 @dataclass(frozen=True)
@@ -114,6 +149,8 @@ class OutputTargets:
     json_path: Optional[Path] = None
     junit_path: Optional[Path] = None
     json_to_stdout: bool = False
+    #: --plot: the contact timeline PNG (usdksl.reports.timeline).
+    plot_path: Optional[Path] = None
 
     def contacts_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.contacts.csv"
@@ -121,15 +158,19 @@ class OutputTargets:
     def summary_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.summary.csv"
 
-    def override_layer(self, shot: str) -> Path:
-        return self.out_dir / f"{shot_stem(shot)}.usdksl.usda"
+    def override_layer(self, shot: str, binary: bool = False) -> Path:
+        """``<stem>.usdksl.usda``, or ``.usdksl.usdc`` for a layer written as a crate file."""
+        return self.out_dir / override_layer_name(shot, binary)
 
     def crosscheck_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.crosscheck.csv"
 
+    def manifest(self, shot: str) -> Path:
+        return self.out_dir / manifest_name(shot_stem(shot))
+
 
 def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str] = None,
-                   junit_path: Optional[str] = None) -> OutputTargets:
+                   junit_path: Optional[str] = None, plot_path: Optional[str] = None) -> OutputTargets:
     """Resolve and check the output locations before any work is done: ``out`` defaults to the shot's
     folder; ``json_path`` '-' means stdout. Raises UsdkslInputError for a missing shot and
     UsdkslUsageError for a folder that cannot be written."""
@@ -137,12 +178,14 @@ def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str
         open_stage(shot)   # a missing input is reported as such, before anything about the output folder
     out_dir = Path(out) if out else Path(shot).resolve().parent
     check_writable_directory(out_dir)
-    extra = [resolve_output_path(value) for value in (json_path, junit_path)]
+    extra = [resolve_output_path(value) for value in (json_path, junit_path, plot_path)]
     for target in extra:
         if target is not None:
             check_writable_directory(target.resolve().parent)
+    if plot_path is not None:
+        require_matplotlib()
     return OutputTargets(out_dir=out_dir, json_path=extra[0], junit_path=extra[1],
-                         json_to_stdout=json_path == "-")
+                         json_to_stdout=json_path == "-", plot_path=extra[2])
 
 
 @dataclass
@@ -158,9 +201,14 @@ class CheckResult:
     seconds: float
     counters: Dict[str, int]
     messages: List[Message]
-    files: Dict[Path, str]
+    #: {target: text, bytes (a crate file, a PNG) or None (a stale file of ours to remove)}
+    files: Dict[Path, "FileData"]
     stdout: Optional[str] = None
     segments: List[Tuple[Optional[TimeRange], ContactTable]] = field(default_factory=list)
+    #: Frames and seconds of the shot's time codes (its stage metadata).
+    clock: StageClock = StageClock()
+    #: The contacts held against a baseline (None without one).
+    baseline: Optional[BaselineComparison] = None
 
     @property
     def undecided(self) -> int:
@@ -168,26 +216,38 @@ class CheckResult:
         return self.counters.get(UNDECIDED_COUNTER, 0)
 
     @property
+    def line(self) -> str:
+        """The shot's line on the console: ``usdksl: SHOT: <summary>``."""
+        return f"usdksl: {self.shot}: {self.summary[len('usdksl: '):]}"
+
+    @property
     def summary(self) -> str:
         """The final line of ``usdksl check``."""
-        return summary_line(self.table, self.plan, self.span, self.seconds)
+        return summary_line(self.table, self.plan, self.span, self.seconds, self.clock,
+                            None if self.baseline is None else self.baseline.known,
+                            None if self.baseline is None else self.baseline.fixed_count)
 
 
-ProgressFactory = Callable[[float, float], Callable[[float, int], None]]
+#: progress(start, end, label="") -> callback(time_reached, contacts_so_far), e.g. usdksl.checking.progress.Progress
+ProgressFactory = Callable[..., Callable[[float, int], None]]
 
 
 def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optional[OutputTargets] = None,
                on_message: Optional[Callable[[Message], None]] = None,
-               progress: Optional[ProgressFactory] = None, name: Optional[str] = None) -> CheckResult:
+               progress: Optional[ProgressFactory] = None, name: Optional[str] = None,
+               baseline: Optional[Baseline] = None) -> CheckResult:
     """Check ``shot`` (a USD file) and render its reports; write nothing.
+
+    ``baseline`` (usdksl.checking.baseline): contacts it knows do not count for the exit code; the
+    reports mark each contact new or known and list the entries that no longer occur.
 
     ``name`` is how reports and messages name the shot (default: ``shot``; a Dask worker reads an absolute
     path but names the shot as the user gave it).
     ``targets`` says where the files would go (default: beside the shot, no JSON or JUnit); it only
     names them (the override layer sublayers the shot by a path relative to its folder). ``on_message``
     receives each plan line and warning as it is known (they are also in ``result.messages``).
-    ``progress(start, end)`` makes the progress callback of the core for the checked span (an object
-    with an optional ``close()``). Raises UsdkslInputError / UsdkslUsageError on bad input.
+    ``progress(start, end, label="")`` makes the progress callback of the core for the checked span (an
+    object with an optional ``close()``); with ``last_contact`` a second one follows the backwards run. Raises UsdkslInputError / UsdkslUsageError on bad input.
     """
     started = time.monotonic()
     name = name or shot
@@ -204,15 +264,19 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
     size = scan_shot(shot, options.time_range, predicate)   # its open stage makes the loader's open free
-    check_memory(size, options.method, memory_limit(options.memory_limit), file=name)
+    check_memory(size, options.method, memory_limit(options.memory_limit), file=name,
+                 threads=options.threads or default_threads())
     segments = load_segments(shot, options.time_range, predicate, say, name)
     del size
-    loaded = segments[0][1]
+    for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
+        say(WARNING, warning)
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
-                         include_guides=options.include_guides, include_invisible=options.include_invisible)
+                         include_guides=options.include_guides, include_invisible=options.include_invisible,
+                         rigid=options.rigid)
     plans = []
     for segment_range, segment in segments:
-        reject_spline_motion(segment.stage, [mesh.path for mesh in segment.meshes], file=name)
+        reject_spline_motion(segment.stage, list(dict.fromkeys(
+            path for mesh in segment.meshes for path in (mesh.prim_path, mesh.scene_path))), file=name)
         segment_plan = plan_shot(segment, scope, segment_range)
         if predicate is not None:
             segment_plan.excluded_paths = list(dict.fromkeys(predicate.rejected))
@@ -232,6 +296,9 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
         all_times = np.concatenate([segment.times for _, segment in segments])
         span = (float(all_times.min()), float(all_times.max())) if all_times.size else (0.0, 0.0)
     bar = progress(span[0], span[1]) if progress is not None else None
+    # the backwards run of --last-contact goes from -end to -start
+    reverse_bar = (progress(-span[1], -span[0], label=REVERSE_PROGRESS_LABEL)
+                   if progress is not None and options.last_contact else None)
     tables = []
     counters: Dict[str, int] = {}
     try:
@@ -239,41 +306,105 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             contacts_before = sum(table.count for table in tables)
             report = None if bar is None else (
                 lambda reached, count, before=contacts_before: bar(reached, before + count))
-            tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters))
+            reverse_report = None if reverse_bar is None else (
+                lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
+            tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
+                                        reverse_report))
     finally:
-        if bar is not None and hasattr(bar, "close"):
-            bar.close()
+        for shown in (bar, reverse_bar):
+            if shown is not None and hasattr(shown, "close"):
+                shown.close()
     if not plan.checked_pairs:
         say(WARNING, "no mesh pair left to check")
     table = ContactTable.concatenate(tables)
+    clock = StageClock.from_metadata(segments[0][1].metadata)
+    comparison = None
+    if baseline is not None:
+        comparison = compare(table, baseline)
+        for level, text in baseline_messages(comparison, clock):
+            say(level, text)
+    for text in mesh_pair_lines(table, clock, None if comparison is None else comparison.known):
+        say(INFO, text)
 
-    exit_code = CONTACTS_FOUND if table.count else CLEAN
-    files: Dict[Path, str] = {}
-    files[targets.contacts_csv(shot)] = contacts_csv(table)
-    files[targets.summary_csv(shot)] = summary_csv(table)
+    exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
+    crosscheck_text = None
     if options.crosscheck:
         crosscheck_text, consistent = _crosscheck(segments, plans, tables, say)
-        files[targets.crosscheck_csv(shot)] = crosscheck_text
         if not consistent:
             exit_code = CROSSCHECK_DISAGREES
-    layer_path = targets.override_layer(shot)
+    files, stdout = render_files(shot, name, options, targets, segments, plan, tables, exit_code, span,
+                                 crosscheck_text, comparison)
+    return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
+                       seconds=time.monotonic() - started, counters=counters,
+                       messages=messages, files=files, stdout=stdout,
+                       segments=[(r, t) for (r, _), t in zip(segments, tables)], clock=clock,
+                       baseline=comparison)
+
+
+def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
+                 tables: Sequence[ContactTable], exit_code: int, span: TimeRange,
+                 crosscheck_text: Optional[str] = None,
+                 comparison: Optional[BaselineComparison] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
+    """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
+    stdout or None), in write order.
+
+    ``segments``: [(range, loaded Shot)] as :func:`load_segments` gives them, ``tables`` the contacts of
+    each. A run over a time range (a farm chunk) also writes its manifest (usdksl.reports.manifest)."""
+    table = ContactTable.concatenate(list(tables))
+    clock = StageClock.from_metadata(segments[0][1].metadata)
+    files: Dict[Path, FileData] = {}
+    known = None if comparison is None else comparison.known
+    files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known)
+    files[targets.summary_csv(shot)] = summary_csv(table, clock, known)
+    if crosscheck_text is not None:
+        files[targets.crosscheck_csv(shot)] = crosscheck_text
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
-    files[layer_path] = build_override_layer(
-        loaded, checked_meshes, table, layer_path,
-        segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1 else None)
+    layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
+                           segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
+                           else None, span=span)
+    files[targets.override_layer(shot, layer.binary)] = layer.data()
+    files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
+    if options.time_range is not None:
+        files[targets.manifest(shot)] = manifest_text(name, file_sha256(shot), options.settings(), span, plan,
+                                                      len(segments), __version__)
     stdout = None
     if targets.json_path is not None or targets.json_to_stdout:
-        json_text = json_report(name, options.settings(), plan, table, exit_code, version=__version__)
+        json_text = json_report(name, options.settings(), plan, table, exit_code, clock, version=__version__,
+                                baseline=None if comparison is None else comparison.to_dict(), known=known)
         if targets.json_path is not None:
             files[targets.json_path] = json_text
         else:
             stdout = json_text
     if targets.junit_path is not None:
-        files[targets.junit_path] = junit_report(name, plan, table)
-    return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
-                       seconds=time.monotonic() - started, counters=counters,
-                       messages=messages, files=files, stdout=stdout,
-                       segments=[(r, t) for (r, _), t in zip(segments, tables)])
+        files[targets.junit_path] = junit_report(name, plan, table, clock, known)
+    if targets.plot_path is not None:
+        if table.last_time is None:
+            raise UsdkslUsageError("the contact timeline needs last contacts (CheckOptions(last_contact=True))")
+        files[targets.plot_path] = timeline_png(table, clock, span, name, known)
+    return files, stdout
+
+
+def baseline_messages(comparison: BaselineComparison, clock: StageClock) -> List[Tuple[str, str]]:
+    """(level, text) lines naming new face pairs and fixed baseline entries: BASELINE_LINES_SHOWN of each
+    as RESULT lines, then up to BASELINE_LINES_VERBOSE as INFO lines (shown with -v), then a count."""
+    lines: List[Tuple[str, str]] = []
+    table = comparison.table
+    new_rows = np.flatnonzero(~comparison.known)[:BASELINE_LINES_VERBOSE]
+    if new_rows.size:
+        prim_a, prim_b = table.prim_names()
+        for shown, row in enumerate(new_rows.tolist()):
+            lines.append((RESULT if shown < BASELINE_LINES_SHOWN else INFO,
+                          f"new: {prim_a[row]} face {int(table.face_a[row])} x {prim_b[row]} face "
+                          f"{int(table.face_b[row])}, first at {clock.describe(float(table.time[row]))}"))
+    for shown, entry in enumerate(comparison.fixed[:BASELINE_LINES_VERBOSE].tolist()):
+        lines.append((RESULT if shown < BASELINE_LINES_SHOWN else INFO,
+                      f"fixed (in the baseline, no longer found): {comparison.baseline.describe(entry)}"))
+    for count, listed, what in ((comparison.new_count, new_rows.size, "new face pairs"),
+                                (comparison.fixed_count, min(comparison.fixed_count, BASELINE_LINES_VERBOSE),
+                                 "fixed baseline entries")):
+        if count > BASELINE_LINES_SHOWN:
+            lines.append((RESULT, f"{count} {what} in all; -v lists {listed}, the reports list all"))
+    return lines
 
 
 def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[str, str], None],
@@ -320,14 +451,17 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
 def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], options: CheckOptions,
                   progress: Optional[Callable[[float, int], None]] = None,
                   say: Optional[Callable[[str, str], None]] = None,
-                  counters: Optional[Dict[str, int]] = None) -> ContactTable:
-    """Face contacts of one constant-topology stretch. Adds the core's work counters (and
-    UNDECIDED_COUNTER) to ``counters`` and warns through ``say`` about undecided triangle pairs."""
+                  counters: Optional[Dict[str, int]] = None,
+                  reverse_progress: Optional[Callable[[float, int], None]] = None) -> ContactTable:
+    """Face contacts of one constant-topology stretch (with last contacts when ``options.last_contact``;
+    ``reverse_progress`` then follows the backwards run in reversed time). Adds the core's work counters
+    (and UNDECIDED_COUNTER) to ``counters`` and warns through ``say`` about undecided triangle pairs."""
     paths = [mesh.path for mesh in segment.meshes]
     if not plan.checked_pairs:
         return ContactTable.empty(paths)
     result = find_contacts(segment.meshes, plan.pairs, method=options.method, time_range=segment_range,
-                           tolerance=options.tolerance, thickness=options.thickness, progress=progress)
+                           tolerance=options.tolerance, thickness=options.thickness, progress=progress,
+                           threads=options.threads)
     undecided = int(np.count_nonzero(result.undecided))
     if counters is not None:
         for name, value in list(result.counters.items()) + [(UNDECIDED_COUNTER, undecided)]:
@@ -335,7 +469,18 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
     if undecided and say is not None:
         say(WARNING, f"{undecided} triangle pairs could not be separated within the tolerance "
                      f"and are reported as contacts (conservative)")
-    return result.face_contacts(segment.meshes)
+    table = result.face_contacts(segment.meshes)
+    if not options.last_contact:
+        return table
+    last = last_contacts(segment.meshes, plan.pairs, table, segment_range, options.method, options.tolerance,
+                         options.thickness, progress=reverse_progress, threads=options.threads)
+    if say is not None and last.missing_in_reverse:
+        say(WARNING, f"{last.missing_in_reverse} face pairs were not found played backwards; their last "
+                     f"contact is reported at their first")
+    if say is not None and last.only_in_reverse:
+        say(WARNING, f"{last.only_in_reverse} face pairs touch played backwards but not forwards; the "
+                     f"forward (first-contact) result is reported")
+    return table.with_last_times(last.last_time)
 
 
 def _crosscheck(segments, plans: Sequence[Plan], tables: Sequence[ContactTable], say) -> Tuple[str, bool]:
@@ -348,7 +493,7 @@ def _crosscheck(segments, plans: Sequence[Plan], tables: Sequence[ContactTable],
     for result in results:
         for line in result.error_lines():
             say(ERROR, line)
-        say(INFO, result.summary_line())
+        say(RESULT, result.summary_line())
     text = "".join(part if index == 0 else part.split("\n", 1)[1]
                    for index, part in enumerate(result.csv_text() for result in results))
     return text, all(result.consistent for result in results)

@@ -28,11 +28,13 @@ def progress_enabled(stream: Optional[TextIO] = None, environ=None) -> bool:
 class Progress:
     """Callable ``(time_reached, contacts_so_far)`` for ``find_contacts(progress=...)``.
 
-    ``start``/``end`` are the checked range in time codes. When disabled every call is a no-op.
+    ``start``/``end`` are the checked range in time codes; ``label`` is shown before the bar. When
+    disabled every call is a no-op.
     """
 
     def __init__(self, start: float, end: float, stream: Optional[TextIO] = None,
-                 enabled: Optional[bool] = None, clock=time.monotonic):
+                 enabled: Optional[bool] = None, clock=time.monotonic, label: str = ""):
+        self.label = label
         self.stream = sys.stderr if stream is None else stream
         self.enabled = progress_enabled(self.stream) if enabled is None else enabled
         self.start = float(start)
@@ -52,7 +54,7 @@ class Progress:
     def line(self) -> str:
         fraction = self.fraction(self.time_reached)
         filled = int(round(fraction * BAR_WIDTH))
-        return (f"\r[{'#' * filled}{'.' * (BAR_WIDTH - filled)}] t={self.time_reached:g} of "
+        return (f"\r{self.label + ' ' if self.label else ''}[{'#' * filled}{'.' * (BAR_WIDTH - filled)}] t={self.time_reached:g} of "
                 f"{self.start:g}..{self.end:g}  contacts: {self.contacts}")
 
     def __call__(self, time_reached: float, contacts_so_far: int) -> None:

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
-from ..reading.loader import DEFORMING, STATIC
+from ..reading.meshes import DEFORMING, STATIC
 from ..reports.output import write_text_atomic
 from ..reports.override import shot_stem
 from .embree_frames import FrameTopology, intersecting_triangle_pairs

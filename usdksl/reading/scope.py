@@ -21,6 +21,11 @@ Rules (docs/contracts.md, What is checked), in the order a skipped pair is expla
    prims above them) skips the pair; collision groups skip the pair only when *every* combination of a
    group of one mesh and a group of the other is filtered (conservative when a mesh is in several
    groups; a mesh in no group collides with everything); two meshes that both never move are skipped.
+4. Default scope: a pair needs a deforming mesh. Inter pairs of two meshes that only move rigidly (or one
+   rigid and one still) are left out unless ``--rigid`` (``ScopeOptions.rigid``); the plan counts them.
+   Characters' collision proxies and falling props otherwise drown the cloth's contacts.
+
+For PointInstancer instances the scene flags are the instancer's (``MeshData.scene_path``).
 """
 
 from __future__ import annotations
@@ -47,6 +52,7 @@ PAIR_INTER_DISABLED_BY_OPTION = "inter checks off (--no-inter)"
 PAIR_FILTERED = "physics:filteredPairs"
 PAIR_COLLISION_GROUP = "collision groups filter each other"
 PAIR_STATIC_STATIC = "both never move"
+PAIR_RIGID_ONLY = "neither deforms (use --rigid)"
 
 # Reasons a pair is checked.
 PAIR_CHECK_SELF = "self: deforms"
@@ -63,6 +69,7 @@ class ScopeOptions:
     exclude: Tuple[str, ...] = ()   # fnmatch patterns on prim paths
     include_guides: bool = False
     include_invisible: bool = False
+    rigid: bool = False             # also check pairs in which neither mesh deforms
 
 
 @dataclass
@@ -175,9 +182,11 @@ def pattern_mask(paths: Sequence[str], include: Sequence[str], exclude: Sequence
 
 def path_matches(path: str, pattern: str) -> bool:
     """fnmatch on the whole prim path ('*' also crosses '/'); a pattern naming a prim also matches every
-    prim below it (same rule as the loader's ``include``)."""
+    prim below it and every instance of a PointInstancer it names (same rule as the loader's ``include``).
+    In fnmatch '[' opens a character class: one instance is ``'/World/scatter[[]3]*'``."""
     pattern = pattern.rstrip("/") or "/"
-    return fnmatch.fnmatchcase(path, pattern) or path.startswith(pattern + "/")
+    return (fnmatch.fnmatchcase(path, pattern) or path.startswith(pattern + "/")
+            or path.startswith(pattern + "["))   # PointInstancer instances: <instancer>[<index>]/...
 
 
 def include_predicate(include: Sequence[str], exclude: Sequence[str]):
@@ -234,11 +243,14 @@ def plan_pairs(paths: Sequence[str], kinds: Sequence[str], moving: np.ndarray, f
         (~flags.self_collision, PAIR_SELF_DISABLED_BY_ATTRIBUTE),
     ]
     both_still = ~moving[:, None] & ~moving[None, :]
+    deforms = deforming & moving
+    neither_deforms = ~deforms[:, None] & ~deforms[None, :] & (not options.rigid)
     inter_rules = [
         (np.full((count, count), not options.inter_check), PAIR_INTER_DISABLED_BY_OPTION),
         (flags.filtered | flags.filtered.T, PAIR_FILTERED),
         (flags.group_filtered | flags.group_filtered.T, PAIR_COLLISION_GROUP),
         (both_still, PAIR_STATIC_STATIC),
+        (neither_deforms, PAIR_RIGID_ONLY),
     ]
     reasons = [PAIR_MESH_SKIPPED] + [r for _, r in self_rules] + [r for _, r in inter_rules]
     code = np.zeros((count, count), np.int16)
@@ -378,18 +390,19 @@ def read_scene_flags(stage, paths: Sequence[str], time_range: Optional[Tuple[flo
 
 
 def plan_shot(shot, options: ScopeOptions = ScopeOptions(), time_range=None) -> Plan:
-    """Scope a loaded shot (usdksl.loader.Shot): flags from its stage, motion from its sample arrays."""
+    """Scope a loaded shot (usdksl.reading.loader.Shot): flags from its stage, motion from its sample arrays."""
     paths = [mesh.path for mesh in shot.meshes]
     kinds = [mesh.kind for mesh in shot.meshes]
     moving = np.array([mesh.kind != "static" and mesh_moves(mesh.points) for mesh in shot.meshes], bool)
     if time_range is None and len(shot.times):
         time_range = (float(shot.times[0]), float(shot.times[-1]))
-    flags = read_scene_flags(shot.stage, paths, time_range)
+    flags = read_scene_flags(shot.stage, [getattr(mesh, "scene_path", mesh.path) for mesh in shot.meshes],
+                             time_range)
     plan = plan_pairs(paths, kinds, moving, flags, options)
     for index, mesh in enumerate(shot.meshes):
         if mesh.kind != "static" and not moving[index]:
             plan.notes.append(f"{mesh.path}: {len(mesh.times)} samples that are all equal: treated as static")
-        elif mesh.kind == "static" and _single_points_sample(shot.stage, mesh.path):
+        elif mesh.kind == "static" and _single_points_sample(shot.stage, getattr(mesh, "prim_path", mesh.path)):
             plan.notes.append(f"{mesh.path}: a single time sample: treated as static")
     return plan
 

@@ -23,7 +23,7 @@ def is_topology_change(error) -> bool:
 
 def topology_gaps(stage, mesh_paths: Iterable[str]) -> List[Tuple[float, float, str]]:
     """(last sample of one topology, first sample of the next, mesh path) for every change."""
-    from .loader import topology_segments
+    from .meshes import topology_segments
 
     gaps = []
     for path in mesh_paths:
@@ -55,7 +55,7 @@ def full_range(stage, mesh_paths: Iterable[str], time_range: Optional[Range]) ->
     """The checked range: ``time_range`` or the span of every points and xform sample of the meshes."""
     if time_range is not None:
         return (float(time_range[0]), float(time_range[1]))
-    from .loader import mesh_sample_times
+    from .meshes import mesh_sample_times
 
     times = [t for path in mesh_paths for t in mesh_sample_times(stage.GetPrimAtPath(path)).tolist()]
     if not times:

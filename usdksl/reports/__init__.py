@@ -1,1 +1,1 @@
-"""Reports: contacts.csv, summary.csv, JSON, JUnit and the USD override layer, written atomically."""
+"""Reports: contacts.csv, summary.csv, JSON, JUnit, the contact timeline and the USD override layer, written atomically."""

@@ -59,6 +59,7 @@ class OutputTransaction:
 
     def __init__(self) -> None:
         self._pending: Dict[Path, bytes] = {}
+        self._removals: List[Path] = []
         self._committed = False
 
     def write_text(self, target: Union[str, Path], text: str) -> None:
@@ -68,6 +69,13 @@ class OutputTransaction:
         if self._committed:
             raise RuntimeError("output transaction already committed")
         self._pending[Path(target)] = bytes(data)
+
+    def remove(self, target: Union[str, Path]) -> None:
+        """Remove ``target``, if it exists, once the new files are in place (an output that a run no longer
+        writes, e.g. the override layer in its other format)."""
+        if self._committed:
+            raise RuntimeError("output transaction already committed")
+        self._removals.append(Path(target))
 
     @property
     def targets(self) -> List[Path]:
@@ -109,6 +117,14 @@ class OutputTransaction:
         with deferred_stops():
             for temp_name, target in temps:
                 os.replace(temp_name, target)
+            for stale in self._removals:
+                try:
+                    stale.unlink()
+                except FileNotFoundError:
+                    pass
+                except OSError as error:
+                    raise UsdkslUsageError(f"cannot remove stale output: {error.strerror or error}",
+                                           file=str(stale)) from None
             self._committed = True
         return [target for _, target in temps]
 
@@ -152,12 +168,18 @@ def resolve_output_path(value: Optional[str]) -> Optional[Path]:
     return Path(value)
 
 
-def write_files(files: Mapping[Union[str, Path], str]) -> List[Path]:
-    """Publish every ``{target: text}`` together (one :class:`OutputTransaction`), in the given order;
-    returns the targets written. Raises UsdkslUsageError naming a target that could not be written."""
+def write_files(files: Mapping[Union[str, Path], Optional[Union[str, bytes]]]) -> List[Path]:
+    """Publish every ``{target: text or bytes}`` together (one :class:`OutputTransaction`), in the given
+    order, and remove the targets whose value is None (stale outputs); returns the targets written.
+    Raises UsdkslUsageError naming a target that could not be written."""
     transaction = OutputTransaction()
-    for target, text in files.items():
-        transaction.write_text(target, text)
+    for target, data in files.items():
+        if data is None:
+            transaction.remove(target)
+        elif isinstance(data, bytes):
+            transaction.write_bytes(target, data)
+        else:
+            transaction.write_text(target, data)
     return transaction.commit()
 
 

@@ -1,9 +1,10 @@
-"""The ``<stem>.usdksl.usda`` override layer: the results of a check written back into USD.
+"""The ``<stem>.usdksl.usda`` (or ``.usdc``) override layer: the results of a check written back into USD.
 
 The layer sublayers the input by a relative path (so the pair of files can move together) and copies the
 input's stage metadata (timeCodesPerSecond, framesPerSecond, start/end time codes, upAxis,
 metersPerUnit, defaultPrim): without them the sublayered cache's samples would be rescaled (docs/contracts.md,
-Outputs). It only authors ``over`` opinions; the input file is never opened for writing.
+Outputs). On the cache's prims it only authors ``over`` opinions (it defines nothing but its review
+material, under ``/UsdkslReview``); the input file is never opened for writing.
 
 Per checked mesh it authors:
 
@@ -16,19 +17,47 @@ Per checked mesh it authors:
 ``double[] primvars:usdksl:firstContactTime`` (interpolation uniform)
     one value per authored face: that face's first contact time, **NaN for faces that never touch**
     (time codes may be negative, so no sentinel number is safe);
-``color3f[] primvars:displayColor`` (interpolation uniform)
-    red for faces that touch, neutral grey for the others, so usdview shows where. Any
-    ``primvars:displayColor:indices`` the input authors is blocked, or it would re-index the colours.
+``color3f[] primvars:displayColor`` (interpolation uniform, indexed) and ``int[] primvars:displayColor:indices``
+    the colours grey and red, and per face an index into them **sampled in time**: a face is red from
+    its first contact on (usdview shows where and when). Integer arrays are held between samples, never
+    interpolated, so a face turns red exactly at the sample of its first contact and no sample "just
+    before" is needed; the first sample, at the start of the checked range, holds the state before any
+    contact (faces touching at the start are red there). One sample per distinct first-contact time,
+    unless a mesh has more than :data:`MAX_EXACT_COLOR_SAMPLES`: then its samples fall on whole time
+    codes (a face turns red at the first whole time code at or after its first contact: exact at whole
+    frames, up to one time code late in between). The default value (no time) marks every face that ever
+    touches. Any ``primvars:displayColor:indices`` of the input is replaced by these.
+``rel material:binding:preview`` (with ``MaterialBindingAPI``; also on ``materialBind`` GeomSubsets)
+    the review material ``/UsdkslReview/ContactColors``: a UsdPreviewSurface whose diffuse colour reads
+    the ``displayColor`` primvar, so the colours show in usdview (which renders the preview purpose)
+    with scene materials on. Renders of the ``full`` purpose keep the scene's materials.
+
+The layer is written as text (``.usdksl.usda``) unless it authors more than :data:`USDA_MAX_ARRAY_ELEMENTS`
+array elements; then as a binary crate file (``.usdksl.usdc``), which is smaller and much faster to
+open.
 
 Meshes inside instances are made visible to these opinions by authoring ``instanceable = false`` on
 their instances in this layer (the input keeps its instancing).
+
+PointInstancer instances (``/World/scatter[3]/box``, :mod:`usdksl.instancing`) are not prims, and all
+instances share their prototype's faces, so nothing is authored per instance mesh or per face. Their results
+go on the instancer prim instead:
+
+``double[] usdksl:instanceFirstContactTime``
+    one value per instance index (the instancer's protoIndices order): that instance's first contact, NaN
+    when it never touches anything or was not checked;
+``int usdksl:contactInstanceCount``, ``rel usdksl:contactsWith``, ``double usdksl:firstContactTime``
+    as for a mesh, over all its instances. A mesh touched by an instance lists the instancer in its
+    ``usdksl:contactsWith``.
 """
 
 from __future__ import annotations
 
 import os
+import tempfile
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, Iterable, Optional, Sequence, Union
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -38,8 +67,30 @@ CLEAN_COLOR = (0.6, 0.6, 0.6)
 ATTR_FIRST_CONTACT_TIME = "usdksl:firstContactTime"
 ATTR_CONTACT_FACE_COUNT = "usdksl:contactFaceCount"
 REL_CONTACTS_WITH = "usdksl:contactsWith"
+ATTR_INSTANCE_FIRST_CONTACT_TIME = "usdksl:instanceFirstContactTime"
+ATTR_CONTACT_INSTANCE_COUNT = "usdksl:contactInstanceCount"
 PRIMVAR_FIRST_CONTACT_TIME = "primvars:usdksl:firstContactTime"
 PRIMVAR_DISPLAY_COLOR = "primvars:displayColor"
+PRIMVAR_DISPLAY_COLOR_INDICES = PRIMVAR_DISPLAY_COLOR + ":indices"
+#: Index of each colour in primvars:displayColor.
+CLEAN_INDEX = 0
+CONTACT_INDEX = 1
+
+#: The review material and the binding that shows it in usdview with scene materials on.
+REVIEW_SCOPE = "/UsdkslReview"
+REVIEW_MATERIAL = REVIEW_SCOPE + "/ContactColors"
+REVIEW_BINDING = "material:binding:preview"
+#: familyName of GeomSubsets that bind materials to some faces (they need the review binding too).
+MATERIAL_BIND_FAMILY = "materialBind"
+
+#: A matte surface, so the review colours read the same from every side.
+REVIEW_ROUGHNESS = 0.8
+#: More distinct first-contact times than this on one mesh: colour samples on whole time codes.
+MAX_EXACT_COLOR_SAMPLES = 256
+#: A layer with more array elements than this is written as a binary crate (.usdc) instead of text.
+USDA_MAX_ARRAY_ELEMENTS = 100_000
+TEXT_SUFFIX = ".usdksl.usda"
+BINARY_SUFFIX = ".usdksl.usdc"
 
 _COPIED_LAYER_FIELDS = ("timeCodesPerSecond", "framesPerSecond", "startTimeCode", "endTimeCode")
 _COPIED_STAGE_FIELDS = ("upAxis", "metersPerUnit")
@@ -71,17 +122,53 @@ def touched_meshes(table, mesh_index: int) -> np.ndarray:
     return np.unique(other)
 
 
-def build_override_layer(shot, checked_meshes: Iterable[int], table,
-                         layer_path: Union[str, os.PathLike], segments: Optional[Sequence[tuple]] = None) -> str:
-    """The override layer's usda text for ``shot`` (usdksl.loader.Shot) and its ContactTable.
+@dataclass
+class OverrideLayer:
+    """A built override layer: the anonymous Sdf.Layer and how many array elements it authors."""
+
+    layer: object
+    array_elements: int
+
+    @property
+    def binary(self) -> bool:
+        """Whether it is written as a crate file (.usdc) rather than text."""
+        return self.array_elements > USDA_MAX_ARRAY_ELEMENTS
+
+    @property
+    def suffix(self) -> str:
+        return BINARY_SUFFIX if self.binary else TEXT_SUFFIX
+
+    def data(self) -> Union[str, bytes]:
+        """The file's content: usda text, or the bytes of a crate file."""
+        if not self.binary:
+            return self.layer.ExportToString()
+        with tempfile.TemporaryDirectory(prefix="usdksl-layer-") as folder:
+            target = os.path.join(folder, "layer" + BINARY_SUFFIX)
+            if not self.layer.Export(target):
+                raise RuntimeError("USD could not write the override layer as a crate file")
+            with open(target, "rb") as handle:
+                return handle.read()
+
+
+def build_override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union[str, os.PathLike],
+                         segments: Optional[Sequence[tuple]] = None, span: Optional[Tuple[float, float]] = None) -> str:
+    """The override layer's usda text (see :func:`override_layer`)."""
+    return override_layer(shot, checked_meshes, table, layer_path, segments, span).layer.ExportToString()
+
+
+def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union[str, os.PathLike],
+                   segments: Optional[Sequence[tuple]] = None,
+                   span: Optional[Tuple[float, float]] = None) -> OverrideLayer:
+    """The override layer for ``shot`` (usdksl.reading.loader.Shot) and its ContactTable.
 
     ``checked_meshes``: indices into shot.meshes that took part in at least one checked pair.
     ``layer_path``: where the layer will live (only its directory matters, for the relative sublayer).
+    ``span``: the checked range in time codes, where the colour samples start (default: the shot's samples).
     ``segments``: for a shot checked in constant-topology stretches (usdksl.segments), a list of
     ((start, end), segment Shot, segment ContactTable). A mesh whose topology differs between segments gets
-    its per-face primvars as time samples at each segment's start and end (held within the segment, one
-    value per face of the topology in force); the mesh-level values cover all segments, and
-    ``usdksl:contactFaceCount`` then adds up the touching faces of every segment.
+    its per-face primvars as time samples per segment (one value per face of the topology in force);
+    the mesh-level values cover all segments, and ``usdksl:contactFaceCount`` then adds up the touching
+    faces of every segment.
     """
     from pxr import Sdf, Vt
 
@@ -98,17 +185,28 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
     if metadata.get("defaultPrim"):
         layer.defaultPrim = str(metadata["defaultPrim"])
     layer.comment = "usdksl check results: override layer over the cache it sublayers"
+    if span is None:
+        times = np.asarray(shot.times, dtype=np.float64)
+        span = (float(times.min()), float(times.max())) if times.size else (0.0, 0.0)
 
     paths = [mesh.path for mesh in shot.meshes]
+    targets = [_result_prim(mesh) for mesh in shot.meshes]
+    instancers: Dict[str, list] = {}
+    elements = 0
+    reviewed = []
     for index in sorted(set(int(i) for i in checked_meshes), key=paths.__getitem__):
         mesh = shot.meshes[index]
-        # (time range or None for the default value, face times) per authored value
+        if getattr(mesh, "instancer", None):
+            instancers.setdefault(mesh.instancer, []).append(index)
+            continue
+        # (time range, face times, whether the range is one segment of several) per authored value
         if segments and len(segments) > 1 and not _same_topology_everywhere(segments, index):
-            values = [(span, face_first_contact_times(segment_table, index, segment_shot.meshes[index].face_count))
-                      for span, segment_shot, segment_table in segments]
+            values = [(segment_span, face_first_contact_times(segment_table, index,
+                                                              segment_shot.meshes[index].face_count), True)
+                      for segment_span, segment_shot, segment_table in segments]
         else:
-            values = [(None, face_first_contact_times(table, index, mesh.face_count))]
-        touching_faces = sum(int((~np.isnan(times)).sum()) for _, times in values)
+            values = [(span, face_first_contact_times(table, index, mesh.face_count), False)]
+        touching_faces = sum(int((~np.isnan(times)).sum()) for _, times, _ in values)
         for instance_path in _enclosing_instances(shot.stage, mesh.path):
             # opinions below an instance are ignored; de-instance it in this review layer only
             instance = Sdf.CreatePrimInLayer(layer, Sdf.Path(instance_path))
@@ -121,7 +219,7 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
         count.default = touching_faces
         relationship = Sdf.RelationshipSpec(spec, REL_CONTACTS_WITH, custom=True)
         relationship.targetPathList.explicitItems = [
-            Sdf.Path(other) for other in sorted(paths[i] for i in touched_meshes(table, index).tolist())]
+            Sdf.Path(other) for other in sorted({targets[i] for i in touched_meshes(table, index).tolist()})]
         rows = (table.mesh_a == index) | (table.mesh_b == index)
         if rows.any():
             first = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double,
@@ -132,20 +230,144 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table,
         primvar.SetInfo("interpolation", "uniform")
         display = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR, Sdf.ValueTypeNames.Color3fArray)
         display.SetInfo("interpolation", "uniform")
-        for span, face_times in values:
-            colors = np.where(~np.isnan(face_times)[:, None], np.array(CONTACT_COLOR, np.float32),
-                              np.array(CLEAN_COLOR, np.float32)).astype(np.float32)
-            if span is None:
+        display.default = Vt.Vec3fArray([CLEAN_COLOR, CONTACT_COLOR])
+        indices = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR_INDICES, Sdf.ValueTypeNames.IntArray)
+        for value_span, face_times, segmented in values:
+            if not segmented:
                 primvar.default = Vt.DoubleArray.FromNumpy(face_times)
-                display.default = Vt.Vec3fArray.FromNumpy(colors)
-                continue
-            for time in sorted(set(span)):
-                layer.SetTimeSample(primvar.path, float(time), Vt.DoubleArray.FromNumpy(face_times))
-                layer.SetTimeSample(display.path, float(time), Vt.Vec3fArray.FromNumpy(colors))
-        if _input_authors(shot.stage, mesh.path, PRIMVAR_DISPLAY_COLOR + ":indices"):
-            indices = Sdf.AttributeSpec(spec, PRIMVAR_DISPLAY_COLOR + ":indices", Sdf.ValueTypeNames.IntArray)
-            indices.default = Sdf.ValueBlock()
-    return layer.ExportToString()
+                indices.default = Vt.IntArray.FromNumpy(_color_indices(face_times, np.inf))
+                elements += 2 * face_times.size
+            else:
+                for time in sorted(set(value_span)):
+                    layer.SetTimeSample(primvar.path, float(time), Vt.DoubleArray.FromNumpy(face_times))
+                    elements += face_times.size
+            for time in color_sample_times(face_times, value_span[0]):
+                layer.SetTimeSample(indices.path, float(time),
+                                    Vt.IntArray.FromNumpy(_color_indices(face_times, time)))
+                elements += face_times.size
+        reviewed.append(spec)
+        _bind_review_material(spec, _material_subsets(shot.stage, mesh.path))
+    if reviewed:
+        _define_review_material(layer)
+    for instancer, indices in sorted(instancers.items()):
+        _author_instancer(layer, shot, instancer, indices, table, targets)
+    return OverrideLayer(layer=layer, array_elements=elements)
+
+
+def color_sample_times(face_times: np.ndarray, start: float) -> List[float]:
+    """Times of the colour index samples of one mesh (module docstring): ``start``, then each distinct first
+    contact after it, or, past MAX_EXACT_COLOR_SAMPLES of them, the whole time codes at or after them."""
+    touched = face_times[~np.isnan(face_times)]
+    later = np.unique(touched[touched > start])
+    if later.size > MAX_EXACT_COLOR_SAMPLES:
+        later = np.unique(np.maximum(np.ceil(later), start))
+        later = later[later > start]
+    return [float(start)] + later.tolist()
+
+
+def _color_indices(face_times: np.ndarray, time: float) -> np.ndarray:
+    """int32[F]: CONTACT_INDEX for faces whose first contact is at or before ``time``, else CLEAN_INDEX."""
+    touched = ~np.isnan(face_times) & (np.nan_to_num(face_times, nan=np.inf) <= time)
+    return np.where(touched, CONTACT_INDEX, CLEAN_INDEX).astype(np.int32)
+
+
+def _material_subsets(stage, mesh_path: str) -> List[str]:
+    """Paths of the mesh's GeomSubsets that bind materials to some of its faces."""
+    from pxr import UsdGeom
+
+    prim = stage.GetPrimAtPath(mesh_path) if stage is not None else None
+    if not prim or not prim.IsA(UsdGeom.Mesh):
+        return []
+    subsets = UsdGeom.Subset.GetGeomSubsets(UsdGeom.Imageable(prim), UsdGeom.Tokens.face, MATERIAL_BIND_FAMILY)
+    return sorted(str(subset.GetPath()) for subset in subsets)
+
+
+def _bind_review_material(spec, subset_paths: Sequence[str]) -> None:
+    """Bind the review material for the preview purpose on the mesh and its material subsets."""
+    from pxr import Sdf
+
+    for target in [spec] + [Sdf.CreatePrimInLayer(spec.layer, Sdf.Path(path)) for path in subset_paths]:
+        if target is not spec:
+            target.specifier = Sdf.SpecifierOver
+        target.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=["MaterialBindingAPI"]))
+        binding = Sdf.RelationshipSpec(target, REVIEW_BINDING, custom=False)
+        binding.targetPathList.explicitItems = [Sdf.Path(REVIEW_MATERIAL)]
+
+
+def _define_review_material(layer) -> None:
+    """/UsdkslReview/ContactColors: UsdPreviewSurface, diffuse colour from the displayColor primvar."""
+    from pxr import Sdf
+
+    scope = Sdf.PrimSpec(layer.pseudoRoot, REVIEW_SCOPE.lstrip("/"), Sdf.SpecifierDef, "Scope")
+    material = Sdf.PrimSpec(scope, REVIEW_MATERIAL.rsplit("/", 1)[1], Sdf.SpecifierDef, "Material")
+    surface = Sdf.PrimSpec(material, "Surface", Sdf.SpecifierDef, "Shader")
+    reader = Sdf.PrimSpec(material, "DisplayColor", Sdf.SpecifierDef, "Shader")
+
+    def attribute(prim, name, value_type, value=None, connect=None, uniform=False):
+        spec = Sdf.AttributeSpec(prim, name, value_type,
+                                 Sdf.VariabilityUniform if uniform else Sdf.VariabilityVarying)
+        if value is not None:
+            spec.default = value
+        if connect is not None:
+            spec.connectionPathList.explicitItems = [Sdf.Path(connect)]
+        return spec
+
+    attribute(reader, "info:id", Sdf.ValueTypeNames.Token, "UsdPrimvarReader_float3", uniform=True)
+    attribute(reader, "inputs:varname", Sdf.ValueTypeNames.String, "displayColor")
+    attribute(reader, "inputs:fallback", Sdf.ValueTypeNames.Float3, CLEAN_COLOR)
+    attribute(reader, "outputs:result", Sdf.ValueTypeNames.Float3)
+    attribute(surface, "info:id", Sdf.ValueTypeNames.Token, "UsdPreviewSurface", uniform=True)
+    attribute(surface, "inputs:diffuseColor", Sdf.ValueTypeNames.Color3f,
+              connect=f"{reader.path}.outputs:result")
+    attribute(surface, "inputs:roughness", Sdf.ValueTypeNames.Float, REVIEW_ROUGHNESS)
+    attribute(surface, "outputs:surface", Sdf.ValueTypeNames.Token)
+    attribute(material, "outputs:surface", Sdf.ValueTypeNames.Token, connect=f"{surface.path}.outputs:surface")
+
+
+def _result_prim(mesh) -> str:
+    """The prim a mesh's results are written on (and that other meshes' contactsWith target)."""
+    return getattr(mesh, "instancer", None) or mesh.path
+
+
+def _instance_count(stage, instancer: str, time: float, fallback: int) -> int:
+    from pxr import UsdGeom
+
+    prim = stage.GetPrimAtPath(instancer) if stage is not None else None
+    indices = UsdGeom.PointInstancer(prim).GetProtoIndicesAttr().Get(time) if prim else None
+    return max(len(indices) if indices is not None else 0, fallback)
+
+
+def _author_instancer(layer, shot, instancer: str, indices: Sequence[int], table, targets) -> None:
+    """Per-instance first contact times and instancer-level totals (module docstring)."""
+    from pxr import Sdf, Vt
+
+    meshes = [shot.meshes[i] for i in indices]
+    count = _instance_count(shot.stage, instancer, float(meshes[0].times[0]),
+                            max(mesh.instance_index for mesh in meshes) + 1)
+    first = np.full(count, np.inf)
+    touched = set()
+    for index, mesh in zip(indices, meshes):
+        rows = (table.mesh_a == index) | (table.mesh_b == index)
+        if rows.any():
+            first[mesh.instance_index] = min(first[mesh.instance_index], float(table.time[rows].min()))
+        touched.update(targets[i] for i in touched_meshes(table, index).tolist())
+    first[np.isinf(first)] = np.nan
+    for instance_path in _enclosing_instances(shot.stage, instancer):
+        instance = Sdf.CreatePrimInLayer(layer, Sdf.Path(instance_path))
+        instance.specifier = Sdf.SpecifierOver
+        instance.instanceable = False
+    spec = Sdf.CreatePrimInLayer(layer, Sdf.Path(instancer))
+    spec.specifier = Sdf.SpecifierOver
+    times = Sdf.AttributeSpec(spec, ATTR_INSTANCE_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.DoubleArray,
+                              declaresCustom=True)
+    times.default = Vt.DoubleArray.FromNumpy(first)
+    touching = Sdf.AttributeSpec(spec, ATTR_CONTACT_INSTANCE_COUNT, Sdf.ValueTypeNames.Int, declaresCustom=True)
+    touching.default = int((~np.isnan(first)).sum())
+    relationship = Sdf.RelationshipSpec(spec, REL_CONTACTS_WITH, custom=True)
+    relationship.targetPathList.explicitItems = [Sdf.Path(other) for other in sorted(touched)]
+    if not np.isnan(first).all():
+        earliest = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double, declaresCustom=True)
+        earliest.default = float(np.nanmin(first))
 
 
 def _enclosing_instances(stage, prim_path: str):
@@ -169,22 +391,19 @@ def _same_topology_everywhere(segments, index: int) -> bool:
     return True
 
 
-def _input_authors(stage, prim_path: str, attribute_name: str) -> bool:
-    prim = stage.GetPrimAtPath(prim_path) if stage is not None else None
-    if not prim:
-        return False
-    attribute = prim.GetAttribute(attribute_name)
-    return bool(attribute) and (attribute.HasAuthoredValue() or attribute.GetNumTimeSamples() > 0)
-
-
-def override_layer_name(shot_path: Union[str, os.PathLike]) -> str:
-    return f"{shot_stem(shot_path)}.usdksl.usda"
+def override_layer_name(shot_path: Union[str, os.PathLike], binary: bool = False) -> str:
+    return f"{shot_stem(shot_path)}{BINARY_SUFFIX if binary else TEXT_SUFFIX}"
 
 
 def shot_stem(shot_path: Union[str, os.PathLike]) -> str:
-    """``shot.usd`` -> ``shot``; ``shot.usdc`` -> ``shot``."""
-    return Path(shot_path).stem
+    """``shot.usd`` -> ``shot``; ``shot.usdc`` -> ``shot``; the package-relative ``pkg.usdz[scene.usdc]`` ->
+    ``pkg.scene``."""
+    text = os.fspath(shot_path)
+    if text.endswith("]") and "[" in text:
+        package, inner = text[:-1].split("[", 1)
+        return f"{Path(package).stem}.{Path(inner).stem}"
+    return Path(text).stem
 
 
-__all__ = ["build_override_layer", "face_first_contact_times", "touched_meshes", "relative_sublayer_path",
+__all__ = ["OverrideLayer", "override_layer", "color_sample_times", "build_override_layer", "face_first_contact_times", "touched_meshes", "relative_sublayer_path",
            "override_layer_name", "shot_stem"]

@@ -16,10 +16,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Dict, Iterable, List, Optional, Sequence
 
-from ..checking.pipeline import CheckOptions, CheckResult, Message, OutputTargets, check_shot, output_targets
+from ..baseline import baseline_for_shot
+from ..checking.pipeline import (WARNING, CheckOptions, CheckResult, Message, OutputTargets, check_shot,
+                                 output_targets)
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERROR
-from ..reports.output import write_files
+from ..reports.junit import error_suite, junit_document, shot_suite
+from ..reports.output import check_writable_directory, write_files
+from ..reports.override import shot_stem
 from ..stopping import deferred_stops
 
 #: Characters that make a shot argument a pattern to expand (a quoted glob the shell left alone).
@@ -34,6 +38,10 @@ class ShotJob:
     path: str
     name: str
     targets: OutputTargets
+    #: --baseline as given (absolute): a file, or a folder of <stem>.contacts.csv (usdksl.baseline).
+    baseline: Optional[str] = None
+    #: --baseline-time-tolerance, time codes.
+    baseline_time_tolerance: Optional[float] = None
 
 
 @dataclass
@@ -50,7 +58,7 @@ class ShotOutcome:
         """The shot's line in a batch: its summary, or its error."""
         if self.result is None:
             return f"usdksl: error: {self.error}"
-        return f"usdksl: {self.name}: {self.result.summary[len('usdksl: '):]}"
+        return self.result.line
 
 
 def expand_shots(arguments: Sequence[str]) -> List[str]:
@@ -64,38 +72,55 @@ def expand_shots(arguments: Sequence[str]) -> List[str]:
 
 
 def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str] = None,
-              junit_path: Optional[str] = None) -> List[object]:
+              junit_path: Optional[str] = None, baseline: Optional[str] = None,
+              baseline_time_tolerance: Optional[float] = None, plot_path: Optional[str] = None) -> List[object]:
     """A ShotJob per shot, or a failed ShotOutcome for a shot whose file or output folder is unusable.
 
-    Raises UsdkslUsageError when the call cannot work at all: --json/--junit with several shots, or two
+    ``junit_path`` is only checked to be writable: the jobs do not write it, the caller writes one document
+    for all shots (:func:`junit_for_outcomes`). Raises UsdkslUsageError when the call cannot work at all:
+    --json or a baseline file (not a folder) with several shots, a baseline that does not exist, or two
     shots that would write the same files."""
-    if len(shots) > 1 and (json_path or junit_path):
-        raise UsdkslUsageError(f"--json and --junit take one shot; got {len(shots)}")
+    if len(shots) > 1 and (json_path or plot_path):
+        raise UsdkslUsageError(f"--json and --plot take one shot; got {len(shots)}")
+    if junit_path:
+        check_writable_directory(Path(junit_path).resolve().parent)
+    if baseline is not None:
+        if not os.path.exists(baseline):
+            raise UsdkslUsageError("baseline not found", file=baseline)
+        if len(shots) > 1 and not os.path.isdir(baseline):
+            raise UsdkslUsageError(f"a baseline file serves one shot; for {len(shots)} shots give a folder of "
+                                   f"<stem>.contacts.csv files (an earlier run's --out)", file=baseline)
+        baseline = str(Path(baseline).resolve())
     entries: List[object] = []
     owners: Dict[Path, str] = {}
     for shot in shots:
         try:
-            targets = output_targets(shot, out, json_path, junit_path)
+            targets = output_targets(shot, out, json_path, plot_path=plot_path)
         except UsdkslInputError as error:
             entries.append(ShotOutcome(name=shot, exit_code=error.exit_code, error=error.one_line()))
             continue
         targets = OutputTargets(out_dir=targets.out_dir.resolve(),
                                 json_path=targets.json_path and targets.json_path.resolve(),
-                                junit_path=targets.junit_path and targets.junit_path.resolve(),
-                                json_to_stdout=targets.json_to_stdout)
+                                json_to_stdout=targets.json_to_stdout,
+                                plot_path=targets.plot_path and targets.plot_path.resolve())
         written = targets.contacts_csv(shot)
         if written in owners:
             raise UsdkslUsageError(f"{owners[written]} and {shot} would both write {written}; "
                                    f"give shots with different names or check them into different --out folders")
         owners[written] = shot
-        entries.append(ShotJob(path=str(Path(shot).resolve()), name=shot, targets=targets))
+        entries.append(ShotJob(path=str(Path(shot).resolve()), name=shot, targets=targets, baseline=baseline,
+                               baseline_time_tolerance=baseline_time_tolerance))
     return entries
 
 
 def run_job(job: ShotJob, options: CheckOptions) -> ShotOutcome:
     """Check one shot; never raises (a failure is an outcome with exit code 2). Runs on Dask workers."""
+    notes: List[Message] = []
     try:
-        result = check_shot(job.path, options, job.targets, name=job.name)
+        baseline, warning = baseline_for_shot(job.baseline, shot_stem(job.name), job.baseline_time_tolerance)
+        if warning is not None:
+            notes.append(Message(WARNING, warning))
+        result = check_shot(job.path, options, job.targets, name=job.name, baseline=baseline)
     except UsdkslInputError as error:
         if error.file == job.path:
             error.file = job.name
@@ -106,6 +131,7 @@ def run_job(job: ShotJob, options: CheckOptions) -> ShotOutcome:
         return ShotOutcome(name=job.name, exit_code=INPUT_ERROR,
                            error=f"{job.name}: internal error: {type(error).__name__}: "
                                  f"{' '.join(str(error).split())} (set USDKSL_DEBUG=1 for a traceback)")
+    result.messages[:0] = notes
     return ShotOutcome(name=job.name, exit_code=result.exit_code, result=result, messages=result.messages)
 
 
@@ -125,6 +151,19 @@ def run_here(jobs: Iterable[ShotJob], options: CheckOptions) -> Iterable[ShotOut
     """The jobs one after the other in this process, in order."""
     for job in jobs:
         yield run_job(job, options)
+
+
+def junit_for_outcomes(outcomes: Sequence[ShotOutcome]) -> str:
+    """The --junit document of a batch: one testsuite per shot, an <error> for a shot that failed."""
+    suites = []
+    for outcome in outcomes:
+        result = outcome.result
+        if result is None:
+            suites.append(error_suite(outcome.name, outcome.error or "failed"))
+        else:
+            suites.append(shot_suite(outcome.name, result.plan, result.table, result.clock,
+                                     None if result.baseline is None else result.baseline.known))
+    return junit_document(suites)
 
 
 def worst_exit_code(outcomes: Iterable[ShotOutcome]) -> int:

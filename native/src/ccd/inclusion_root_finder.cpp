@@ -11,7 +11,10 @@
 
 #include "usdksl/ccd/ccd_constants.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -58,18 +61,104 @@ struct TermsAtTime {
     double w[3], e1[3], e2[3];
 };
 
+/// The face of a vertex-face pair at one end of the step: edge lengths (edge
+/// opposite each corner 1..3) and a normal crossed at the corner opposite the
+/// longest edge, from the two shortest edges (on a sliver, crossing its two
+/// long edges would cancel).
+struct FaceShape {
+    double opposite_length[4];
+    int widest_corner;
+    Vec3 normal;
+
+    explicit FaceShape(const std::array<Vec3, 4>& points) : points_(points) {
+        widest_corner = 1;
+        for (int corner = 1; corner <= 3; ++corner) {
+            opposite_length[corner] = (points[corner % 3 + 1] - points[(corner + 1) % 3 + 1]).norm();
+            if (opposite_length[corner] > opposite_length[widest_corner]) widest_corner = corner;
+        }
+        const Vec3& origin = points[widest_corner];
+        normal = (points[widest_corner % 3 + 1] - origin).cross(points[(widest_corner + 1) % 3 + 1] - origin);
+    }
+
+    /// Barycentric weight of `corner` in the projection of the vertex (point
+    /// 0) onto the face's plane; NaN for a degenerate face.
+    double projected_weight(int corner) const {
+        const Vec3& next = points_[corner % 3 + 1];
+        const Vec3& last = points_[(corner + 1) % 3 + 1];
+        return (last - next).cross(points_[0] - next).dot(normal) / normal.squaredNorm();
+    }
+
+private:
+    const std::array<Vec3, 4>& points_;
+};
+
+/// Order in which the root search takes the four points of a vertex-face
+/// pair: the vertex, then the face corners, first the one that becomes the
+/// origin of the (u,v) parameters. Boxes are axis-aligned in (u,v), so the
+/// two face edges through the origin are axis-aligned, but the edge opposite
+/// it, u + v = 1, cuts boxes diagonally. Two things make an origin costly:
+/// a narrow angle there (E1 and E2 nearly parallel, F varying with u + v
+/// alone: on a sliver whose corner was blown far away, taking that corner
+/// first cost one query over 10^5 boxes) and a root set running along the
+/// opposite edge. So the origin is the corner opposite the longest edge (its
+/// angle is the widest), unless the vertex projects within
+/// FACE_ORIGIN_NEAR_EDGE_WEIGHT of that edge (barycentrically, at either end
+/// of the step); then it is the wide corner (opposite edge at least
+/// FACE_ORIGIN_WIDE_EDGE_RATIO of the longest at both ends) with the largest
+/// weight. The face is the same point set in any order, so only the cost
+/// changes, never the answer; NaN and ties keep the given order.
+std::array<int, 4> face_corner_order(const MultilinearDistance& f) {
+    const FaceShape shapes[2] = {FaceShape(f.at_start), FaceShape(f.at_end)};
+    auto weight = [&](int corner) {
+        const double at_start = shapes[0].projected_weight(corner);
+        const double at_end = shapes[1].projected_weight(corner);
+        // A face degenerate at one end is judged by the other end alone.
+        return std::isnan(at_start) ? at_end : std::isnan(at_end) ? at_start : std::min(at_start, at_end);
+    };
+    int origin = 1;
+    double origin_length = -1.0;
+    for (int corner = 1; corner <= 3; ++corner) {
+        const double summed = shapes[0].opposite_length[corner] * shapes[0].opposite_length[corner] +
+                              shapes[1].opposite_length[corner] * shapes[1].opposite_length[corner];
+        if (summed > origin_length) {
+            origin_length = summed;
+            origin = corner;
+        }
+    }
+    double best = weight(origin);
+    if (best < FACE_ORIGIN_NEAR_EDGE_WEIGHT) {
+        for (int corner = 1; corner <= 3; ++corner) {
+            bool wide = true;
+            for (const FaceShape& shape : shapes) {
+                const double longest = shape.opposite_length[shape.widest_corner];
+                wide = wide && !(shape.opposite_length[corner] < FACE_ORIGIN_WIDE_EDGE_RATIO * longest);
+            }
+            if (!wide || corner == origin) continue;
+            const double candidate = weight(corner);
+            if (candidate > best) {
+                best = candidate;
+                origin = corner;
+            }
+        }
+    }
+    return {0, origin, origin % 3 + 1, (origin + 1) % 3 + 1};
+}
+
 class RootSearch {
 public:
     RootSearch(const MultilinearDistance& f, const CCDSettings& settings)
         : pairs_(f.kind == PrimitivePairKind::VertexFace ? VERTEX_FACE_PAIRS : EDGE_EDGE_PAIRS),
           is_vertex_face_(f.kind == PrimitivePairKind::VertexFace) {
+        const std::array<int, 4> order =
+            is_vertex_face_ ? face_corner_order(f) : std::array<int, 4>{0, 1, 2, 3};
         double max_abs[3] = {0.0, 0.0, 0.0};
         for (int i = 0; i < 4; ++i) {
+            const int source = order[i];
             for (int k = 0; k < 3; ++k) {
-                start_[i][k] = f.at_start[i][k];
-                displacement_[i][k] = f.at_end[i][k] - f.at_start[i][k];
-                max_abs[k] = std::max({max_abs[k], std::abs(f.at_start[i][k]),
-                                       std::abs(f.at_end[i][k])});
+                start_[i][k] = f.at_start[source][k];
+                displacement_[i][k] = f.at_end[source][k] - f.at_start[source][k];
+                max_abs[k] = std::max({max_abs[k], std::abs(f.at_start[source][k]),
+                                       std::abs(f.at_end[source][k])});
             }
         }
         const double thickness = std::max(settings.thickness, 0.0);
@@ -241,6 +330,43 @@ public:
         return false;
     }
 
+    /// Widths of t, u and v below which a box needs no further split. Time
+    /// keeps the requested tolerance (a fraction of the step). The face or
+    /// edge parameters are resolved spatially: to tolerance times the
+    /// largest distance F moves across the whole range of any parameter
+    /// (divided by SPATIAL_TOLERANCE_MARGIN), and never finer than
+    /// `tolerance` itself, so a parameter whose edge is far shorter than the
+    /// query is refined no finer than it matters (on a sliver blown 10^7
+    /// away, resolving its 0.1-long edge to 10^-6 of its length cost
+    /// thousands of boxes along a flat contact with thickness), while
+    /// ordinary queries keep the parametric tolerance. A parameter F does not
+    /// depend on is never split for accuracy. This only decides how early a
+    /// box may answer, and a box answers at its t_lo only once everything
+    /// earlier is excluded, so times of impact stay conservative.
+    void parameter_tolerances(double tolerance, double out[3]) const {
+        const TermsAtTime at[2] = {terms_at(0.0), terms_at(1.0)};
+        double reach[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < 3; ++k) {
+            for (int it = 0; it < 2; ++it) {
+                reach[1] = std::max(reach[1], std::abs(at[it].e1[k]));
+                reach[2] = std::max(reach[2], std::abs(at[it].e2[k]));
+            }
+            for (const double u : {0.0, 1.0}) {
+                for (const double v : {0.0, 1.0}) {
+                    const double start = at[0].w[k] - u * at[0].e1[k] - v * at[0].e2[k];
+                    const double end = at[1].w[k] - u * at[1].e1[k] - v * at[1].e2[k];
+                    reach[0] = std::max(reach[0], std::abs(end - start));
+                }
+            }
+        }
+        const double scale = std::max({reach[0], reach[1], reach[2]});
+        out[0] = out[1] = out[2] = tolerance;
+        if (!(scale > 0.0) || !std::isfinite(scale)) return;
+        for (int d = 1; d < 3; ++d)
+            out[d] = reach[d] > 0.0 ? std::max(tolerance, tolerance * (scale / reach[d]) / SPATIAL_TOLERANCE_MARGIN)
+                                    : INFINITY;
+    }
+
     bool outside_domain(const ParameterBox& box) const {
         return is_vertex_face_ && box.u_lo + box.v_lo > 1.0;
     }
@@ -345,6 +471,8 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
 
     const RootSearch search(f, settings);
     const double tolerance = std::max(settings.tolerance, CCD_MIN_TOLERANCE);
+    double tolerances[3];
+    search.parameter_tolerances(tolerance, tolerances);
     const int64_t max_iterations = settings.max_iterations;
 
     thread_local std::vector<ParameterBox> heap;
@@ -366,6 +494,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.undecided = true;
             result.toi = box.t_lo;
             result.reached_tolerance = box.t_hi - box.t_lo;
+            result.iterations = iterations;
             return result;
         }
         ++iterations;
@@ -386,6 +515,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.hit = true;
             result.toi = box.t_lo;
             result.reached_tolerance = 0.0;
+            result.iterations = iterations;
             return result;
         }
 
@@ -393,6 +523,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.hit = true;
             result.toi = box.t_lo;
             result.reached_tolerance = box.t_hi - box.t_lo;
+            result.iterations = iterations;
             return result;
         }
 
@@ -411,7 +542,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         int split_axis = -1;
         double best_variation = -1.0;
         for (int d = 0; d < 3; ++d) {
-            if (widths[d] > tolerance && variation[d] > best_variation) {
+            if (widths[d] > tolerances[d] && variation[d] > best_variation) {
                 best_variation = variation[d];
                 split_axis = d;
             }
@@ -420,7 +551,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             split_axis = -1;
             double widest = 0.0;
             for (int d = 0; d < 3; ++d) {
-                if (widths[d] > tolerance && widths[d] > widest) {
+                if (widths[d] > tolerances[d] && widths[d] > widest) {
                     widest = widths[d];
                     split_axis = d;
                 }
@@ -441,6 +572,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             result.hit = true;
             result.toi = clipped.t_lo;
             result.reached_tolerance = widths[0];
+            result.iterations = iterations;
             return result;
         }
 
@@ -471,6 +603,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         heap.push_back(low);
         std::push_heap(heap.begin(), heap.end(), later_first);
     }
+    result.iterations = iterations;
     return result;
 }
 

@@ -3,12 +3,20 @@
 #include "usdksl/broad_phase/baselines.hpp"
 #include "usdksl/collision/raw_sample_confirmation.hpp"
 #include "usdksl/collision/scene.hpp"
+#include "usdksl/collision/time_windows.hpp"
 #include "usdksl/collision/triangle_pair_tester.hpp"
 #include "usdksl/kinetic/separation_list.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <tuple>
 
 namespace usdksl {
 namespace {
@@ -41,6 +49,149 @@ void validate(const std::vector<MeshAnimation>& meshes, const std::vector<std::p
     }
 }
 
+/// Time windows per thread: more windows than threads balance uneven work
+/// (contacts cluster in time) at the cost of one front set-up per window.
+constexpr int32_t WINDOWS_PER_THREAD = 4;
+
+int32_t resolve_threads(int32_t requested) {
+    if (requested > 0) return requested;
+    return std::max(1, static_cast<int32_t>(std::thread::hardware_concurrency()));
+}
+
+/// Thrown in a window's thread once another window's progress call raised (a
+/// stop request): every thread unwinds at its next progress call instead of
+/// finishing its window.
+struct WindowCancelled {};
+
+/// Runs body(i) for i in [0, count) on up to `threads` threads (the caller's
+/// included), handing out indices in order; rethrows the first exception
+/// (a WindowCancelled only follows another one and is not reported).
+template <typename Body>
+void parallel_for(int32_t threads, int32_t count, Body body) {
+    std::atomic<int32_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    const auto work = [&]() {
+        for (int32_t i = next++; i < count; i = next++) {
+            try {
+                body(i);
+            } catch (const WindowCancelled&) {
+                next = count;
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(failure_mutex);
+                if (!failure) failure = std::current_exception();
+                next = count;
+            }
+        }
+    };
+    std::vector<std::thread> workers;
+    for (int32_t t = 1; t < std::min(threads, count); ++t) workers.emplace_back(work);
+    work();
+    for (std::thread& worker : workers) worker.join();
+    if (failure) std::rethrow_exception(failure);
+}
+
+/// Runs one method over [t_begin, t_end] on `scene`, recording candidates in `tester`.
+void run_method(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                const CheckOptions& options, TrianglePairTester& tester, Counters& counters) {
+    switch (options.method) {
+    case Method::KineticSeparationList: {
+        KineticSeparationLists lists(scene, mesh_pairs, tester, counters, options.t_begin, options.t_end,
+                                     options.ccd.thickness);
+        lists.run(options.progress);
+        break;
+    }
+    case Method::SweptVolume:
+        run_swept_volume(scene, mesh_pairs, options, tester, counters);
+        break;
+    case Method::Discrete:
+        run_discrete(scene, mesh_pairs, options, tester, counters);
+        break;
+    case Method::BruteForce:
+        run_brute_force(scene, mesh_pairs, options, tester);
+        break;
+    }
+}
+
+void add_counters(Counters& total, const Counters& part) {
+    total.kinetic_tree_events += part.kinetic_tree_events;
+    total.bv_overlap_events += part.bv_overlap_events;
+    total.fathers_do_not_overlap_events += part.fathers_do_not_overlap_events;
+    total.leaves_do_not_overlap_events += part.leaves_do_not_overlap_events;
+    total.polygons_collide_events += part.polygons_collide_events;
+    total.bv_change_events += part.bv_change_events;
+    total.bv_tests += part.bv_tests;
+    total.narrow_phase_tests += part.narrow_phase_tests;
+    total.primitive_queries += part.primitive_queries;
+    total.undecided_queries += part.undecided_queries;
+    total.raw_confirmations += part.raw_confirmations;
+    total.raw_rejections += part.raw_rejections;
+}
+
+/// Joins the progress of windows checked at once into one callback, called
+/// with the total time covered (added to the range start) and all contacts.
+class WindowProgress {
+public:
+    WindowProgress(const ProgressCallback& user, const std::vector<TimeWindow>& windows)
+        : user_(user), windows_(windows), reached_(windows.size()), contacts_(windows.size(), 0) {
+        for (size_t w = 0; w < windows.size(); ++w) reached_[w] = windows[w].begin;
+    }
+    ProgressCallback for_window(size_t w) {
+        if (!user_) return {};
+        return [this, w](double t, int64_t contacts) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (cancelled_) throw WindowCancelled{};
+            reached_[w] = std::clamp(t, windows_[w].begin, windows_[w].end);
+            contacts_[w] = contacts;
+            double covered = 0.0;
+            int64_t total = 0;
+            for (size_t i = 0; i < windows_.size(); ++i) {
+                covered += reached_[i] - windows_[i].begin;
+                total += contacts_[i];
+            }
+            try {
+                user_(windows_.front().begin + covered, total);
+            } catch (...) {
+                cancelled_ = true;
+                throw;
+            }
+        };
+    }
+
+private:
+    const ProgressCallback& user_;
+    const std::vector<TimeWindow>& windows_;
+    std::mutex mutex_;
+    std::atomic<bool> cancelled_{false};
+    std::vector<double> reached_;
+    std::vector<int64_t> contacts_;
+};
+
+/// Earliest contact per triangle pair over all windows (the earlier window on
+/// equal times), sorted by contact_before.
+std::vector<Contact> merge_windows(const std::vector<std::vector<Contact>>& per_window) {
+    std::vector<std::pair<Contact, size_t>> all;
+    for (size_t w = 0; w < per_window.size(); ++w) {
+        for (const Contact& c : per_window[w]) all.emplace_back(c, w);
+    }
+    const auto pair_then_time = [](const std::pair<Contact, size_t>& x, const std::pair<Contact, size_t>& y) {
+        return std::tie(x.first.mesh_a, x.first.tri_a, x.first.mesh_b, x.first.tri_b, x.first.time, x.second) <
+               std::tie(y.first.mesh_a, y.first.tri_a, y.first.mesh_b, y.first.tri_b, y.first.time, y.second);
+    };
+    std::sort(all.begin(), all.end(), pair_then_time);
+    std::vector<Contact> merged;
+    for (size_t i = 0; i < all.size(); ++i) {
+        const Contact& c = all[i].first;
+        if (i > 0) {
+            const Contact& p = all[i - 1].first;
+            if (p.mesh_a == c.mesh_a && p.tri_a == c.tri_a && p.mesh_b == c.mesh_b && p.tri_b == c.tri_b) continue;
+        }
+        merged.push_back(c);
+    }
+    std::sort(merged.begin(), merged.end(), contact_before);
+    return merged;
+}
+
 } // namespace
 
 CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
@@ -48,30 +199,62 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     validate(meshes, mesh_pairs, options);
     CheckResult result;
     // The event-based and swept methods run on merged flightplans with local
-    // slack and find candidates; every answer is confirmed on the raw samples.
-    // The reference and the discrete check read the raw samples directly.
+    // slack and find candidates; every continuous answer (brute force's too)
+    // is confirmed on the raw samples at a finer tolerance. The reference and
+    // the discrete check read the raw samples directly.
     const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
     const Scene scene(meshes, merge);
-    TrianglePairTester tester(scene, options.ccd, result.counters);
-    switch (options.method) {
-    case Method::KineticSeparationList: {
-        KineticSeparationLists lists(scene, mesh_pairs, tester, result.counters, options.t_begin, options.t_end,
-                                     options.ccd.thickness);
-        lists.run(options.progress);
-        break;
+    const int32_t threads = resolve_threads(options.threads);
+    const std::vector<TimeWindow> windows =
+        threads > 1 ? split_into_windows(scene, mesh_pairs, options.t_begin, options.t_end, threads * WINDOWS_PER_THREAD)
+                    : std::vector<TimeWindow>{{options.t_begin, options.t_end}};
+    if (windows.size() == 1) {
+        TrianglePairTester tester(scene, options.ccd, result.counters);
+        run_method(scene, mesh_pairs, options, tester, result.counters);
+        // The discrete baseline answers at sampled instants; it stays what it is, misses included.
+        result.contacts = options.method == Method::Discrete
+                              ? tester.sorted_contacts()
+                              : confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
+                                                       options.t_end, result.counters, options.progress);
+        return result;
     }
-    case Method::SweptVolume:
-        run_swept_volume(scene, mesh_pairs, options, tester, result.counters);
-        break;
-    case Method::Discrete:
-        run_discrete(scene, mesh_pairs, options, tester, result.counters);
-        break;
-    case Method::BruteForce:
-        run_brute_force(scene, mesh_pairs, options, tester);
-        break;
+    // Windows are checked independently, each on its own copy of the scene
+    // (shared flightplans, own cursors). Every reported time is computed on
+    // raw sample steps, which a window tests exactly as a whole run does, so
+    // the earliest contact per pair over the windows is the whole run's.
+    const size_t count = windows.size();
+    std::vector<std::vector<Contact>> candidates(count), confirmed(count);
+    std::vector<Counters> counters(count);
+    WindowProgress progress(options.progress, windows);
+    parallel_for(threads, static_cast<int32_t>(count), [&](int32_t w) {
+        const Scene local(scene);
+        CheckOptions window_options = options;
+        window_options.t_begin = windows[w].begin;
+        window_options.t_end = windows[w].end;
+        window_options.progress = progress.for_window(static_cast<size_t>(w));
+        TrianglePairTester tester(local, options.ccd, counters[w]);
+        run_method(local, mesh_pairs, window_options, tester, counters[w]);
+        candidates[w] = tester.sorted_contacts();
+    });
+    std::vector<FlightplanKind> kinds;
+    for (const std::vector<Contact>& c : candidates) mark_meshes_to_confirm(scene, c, kinds);
+    std::unique_ptr<Scene> raw_scene;
+    if (options.method != Method::Discrete && std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
+        raw_scene = std::make_unique<Scene>(meshes, kinds);
     }
-    result.contacts = confirm_on_raw_samples(scene, tester.sorted_contacts(), options.ccd, options.t_begin,
-                                             options.t_end, result.counters, options.progress);
+    // The discrete baseline answers at sampled instants; it stays what it is, misses included.
+    const bool confirm = options.method != Method::Discrete;
+    parallel_for(threads, static_cast<int32_t>(count), [&](int32_t w) {
+        if (!confirm || !raw_scene) {
+            confirmed[w] = candidates[w];
+            return;
+        }
+        const Scene raw_local(*raw_scene);
+        confirmed[w] = confirm_on_raw_scene(raw_local, candidates[w], options.ccd, windows[w].begin, windows[w].end,
+                                            counters[w], progress.for_window(static_cast<size_t>(w)));
+    });
+    for (const Counters& c : counters) add_counters(result.counters, c);
+    result.contacts = merge_windows(confirmed);
     return result;
 }
 

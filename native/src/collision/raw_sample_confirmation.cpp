@@ -1,5 +1,6 @@
 #include "usdksl/collision/raw_sample_confirmation.hpp"
 
+#include "usdksl/ccd/ccd_constants.hpp"
 #include "usdksl/collision/triangle_pair_tester.hpp"
 
 #include <algorithm>
@@ -7,16 +8,13 @@
 namespace usdksl {
 namespace {
 
-/// Candidates confirmed between two progress calls (where a stop request is raised).
-constexpr int64_t kProgressEveryCandidates = 1 << 7;
-
-/// A contact of meshes whose flightplans kept every sample already is a raw
-/// answer; any dropped sample (even one exactly on its chord) changes the steps
-/// the narrow phase saw, so the time is recomputed on the raw intervals. Every
-/// reported time then comes from the same raw steps whatever the method or
-/// time window, which keeps answers byte-identical across them.
-bool needs_confirmation(const Scene& scene, const Contact& c) {
-    return scene.merged(c.mesh_a) || scene.merged(c.mesh_b);
+/// Tolerance (interval fraction) of the confirming search: finer than the
+/// candidate search's by CONFIRMATION_TOLERANCE_FACTOR, never below the root
+/// finder's floor.
+CCDSettings confirming(const CCDSettings& settings) {
+    CCDSettings fine = settings;
+    fine.tolerance = std::max(settings.tolerance * CONFIRMATION_TOLERANCE_FACTOR, CCD_MIN_TOLERANCE);
+    return fine;
 }
 
 /// Tests one triangle pair on the raw samples from time code `from` on; the
@@ -32,36 +30,41 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
     }
 }
 
+/// Candidates confirmed between two progress calls (where a stop request is raised).
+constexpr int64_t kProgressEveryCandidates = 1 << 7;
+
 } // namespace
+
+void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Contact>& candidates,
+                            std::vector<FlightplanKind>& kinds) {
+    kinds.resize(candidate_scene.meshes.size(), FlightplanKind::Unused);
+    for (const Contact& c : candidates) kinds[c.mesh_a] = kinds[c.mesh_b] = FlightplanKind::RawSamples;
+}
+
+std::vector<Contact> confirm_on_raw_scene(const Scene& raw_scene, const std::vector<Contact>& candidates,
+                                          const CCDSettings& settings, double t_begin, double t_end,
+                                          Counters& counters, const ProgressCallback& progress) {
+    TrianglePairTester raw(raw_scene, confirming(settings), counters);
+    int64_t done = 0;
+    for (const Contact& c : candidates) {
+        if (progress && (++done % kProgressEveryCandidates) == 0) {
+            progress(t_end, static_cast<int64_t>(raw.contacts().size()));
+        }
+        first_raw_contact(raw, c, c.time, t_begin, t_end);
+    }
+    counters.raw_confirmations += static_cast<int64_t>(candidates.size());
+    counters.raw_rejections += static_cast<int64_t>(candidates.size()) - static_cast<int64_t>(raw.contacts().size());
+    return raw.sorted_contacts();
+}
 
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,
                                             Counters& counters, const ProgressCallback& progress) {
-    std::vector<FlightplanKind> kinds(candidate_scene.meshes.size(), FlightplanKind::Unused);
-    std::vector<Contact> confirmed;
-    for (const Contact& c : candidates) {
-        if (needs_confirmation(candidate_scene, c)) {
-            kinds[c.mesh_a] = kinds[c.mesh_b] = FlightplanKind::RawSamples;
-        } else {
-            confirmed.push_back(c);
-        }
-    }
-    if (confirmed.size() == candidates.size()) return confirmed;
-
+    if (candidates.empty()) return {};
+    std::vector<FlightplanKind> kinds;
+    mark_meshes_to_confirm(candidate_scene, candidates, kinds);
     const Scene raw_scene(candidate_scene.meshes, kinds);
-    TrianglePairTester raw(raw_scene, settings, counters);
-    for (const Contact& c : candidates) {
-        if (!needs_confirmation(candidate_scene, c)) continue;
-        ++counters.raw_confirmations;
-        if (progress && counters.raw_confirmations % kProgressEveryCandidates == 0) {
-            progress(t_end, static_cast<int64_t>(confirmed.size() + raw.contacts().size()));
-        }
-        first_raw_contact(raw, c, c.time, t_begin, t_end);
-    }
-    counters.raw_rejections = counters.raw_confirmations - static_cast<int64_t>(raw.contacts().size());
-    confirmed.insert(confirmed.end(), raw.contacts().begin(), raw.contacts().end());
-    std::sort(confirmed.begin(), confirmed.end(), contact_before);
-    return confirmed;
+    return confirm_on_raw_scene(raw_scene, candidates, settings, t_begin, t_end, counters, progress);
 }
 
 } // namespace usdksl

@@ -3,6 +3,7 @@
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace usdksl {
@@ -74,12 +75,17 @@ bool TrianglePairTester::settled(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, 
 bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
                                    const PairStep& step) {
     if (!step.valid()) return false;
-    ++counters_.narrow_phase_tests;
     canonical_order(mesh_a, tri_a, mesh_b, tri_b);
-    const std::array<Vec3, 3> a0 = scene_.triangle_at(mesh_a, tri_a, step.begin);
-    const std::array<Vec3, 3> a1 = scene_.triangle_at(mesh_a, tri_a, step.end);
-    const std::array<Vec3, 3> b0 = scene_.triangle_at(mesh_b, tri_b, step.begin);
-    const std::array<Vec3, 3> b1 = scene_.triangle_at(mesh_b, tri_b, step.end);
+    return test_positions(mesh_a, tri_a, mesh_b, tri_b, step, scene_.triangle_at(mesh_a, tri_a, step.begin),
+                          scene_.triangle_at(mesh_a, tri_a, step.end), scene_.triangle_at(mesh_b, tri_b, step.begin),
+                          scene_.triangle_at(mesh_b, tri_b, step.end));
+}
+
+bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
+                                        const PairStep& step, const std::array<Vec3, 3>& a0,
+                                        const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
+                                        const std::array<Vec3, 3>& b1) {
+    ++counters_.narrow_phase_tests;
     const MovingTriangle a{scene_.meshes[mesh_a].triangles[tri_a], a0, a1};
     const MovingTriangle b{scene_.meshes[mesh_b].triangles[tri_b], b0, b1};
     const TrianglePairContact hit = triangle_pair_ccd(a, b, mesh_a == mesh_b, settings_for(mesh_a, mesh_b));
@@ -96,6 +102,54 @@ bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b
     contact.undecided = hit.undecided;
     record(contact);
     return true;
+}
+
+StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from,
+                                       double until) {
+    constexpr double infinity = std::numeric_limits<double>::infinity();
+    canonical_order(mesh_a, tri_a, mesh_b, tri_b);
+    const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
+    const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
+    const Flightplans* plans[6];
+    int32_t vertex[6];
+    int64_t segment[6];
+    for (int i = 0; i < 6; ++i) {
+        plans[i] = &scene_.plans[i < 3 ? mesh_a : mesh_b];
+        vertex[i] = i < 3 ? ids_a[i] : ids_b[i - 3];
+        segment[i] = plans[i]->segment_of(vertex[i], from);
+    }
+    double t = from;
+    while (true) {
+        // The step containing t, as step_containing() finds it.
+        double begin = -infinity, end = infinity;
+        for (int i = 0; i < 6; ++i) {
+            const Flightplans& p = *plans[i];
+            segment[i] = p.advance_segment(vertex[i], segment[i], t);
+            const int64_t k = segment[i];
+            const double kt = p.key_time(k);
+            if (kt <= t) {
+                begin = std::max(begin, kt);
+                if (k + 1 < p.key_end(vertex[i])) end = std::min(end, p.key_time(k + 1));
+            } else {
+                end = std::min(end, kt);
+            }
+        }
+        if (!std::isfinite(end)) return {infinity, false};
+        if (!std::isfinite(begin)) begin = std::min(t, end);
+        // Every vertex's segment holds `begin` too (no breakpoint lies in (begin, t]).
+        std::array<Vec3, 3> a0, a1, b0, b1;
+        for (int i = 0; i < 6; ++i) {
+            const Flightplans& p = *plans[i];
+            const int64_t at_end = p.advance_segment(vertex[i], segment[i], end);
+            Vec3& start = i < 3 ? a0[i] : b0[i - 3];
+            Vec3& finish = i < 3 ? a1[i] : b1[i - 3];
+            start = p.position_in_segment(vertex[i], segment[i], begin);
+            finish = p.position_in_segment(vertex[i], at_end, end);
+        }
+        if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1)) return {end, true};
+        if (end >= until) return {end, false};
+        t = end;
+    }
 }
 
 bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 namespace usdksl {
@@ -50,9 +51,14 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
         if (!std::isfinite(c)) throw std::invalid_argument("flightplans: non-finite point coordinate");
     }
 
-    offsets_.reserve(static_cast<size_t>(n) + 1);
-    offsets_.push_back(0);
-    vertex_magnitude_.assign(static_cast<size_t>(n), 0.0);
+    auto storage = std::make_shared<Storage>();
+    std::vector<int64_t>& offsets = storage->offsets;
+    std::vector<double>& key_times = storage->key_times;
+    std::vector<double>& key_points = storage->key_points;
+    std::vector<double>& vertex_magnitude = storage->vertex_magnitude;
+    offsets.reserve(static_cast<size_t>(n) + 1);
+    offsets.push_back(0);
+    vertex_magnitude.assign(static_cast<size_t>(n), 0.0);
     std::vector<int64_t> kept;
     kept.reserve(static_cast<size_t>(sample_count));
     for (int32_t v = 0; v < n; ++v) {
@@ -96,17 +102,23 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
             if (still) kept.pop_back();
         }
         for (int64_t k : kept) {
-            vertex_magnitude_[v] = std::max(vertex_magnitude_[v], sample_magnitude(mesh, v, k));
-            key_times_.push_back(mesh.times[k]);
+            vertex_magnitude[v] = std::max(vertex_magnitude[v], sample_magnitude(mesh, v, k));
+            key_times.push_back(mesh.times[k]);
             for (int axis = 0; axis < 3; ++axis) {
-                key_points_.push_back(mesh.points[(static_cast<size_t>(k) * n + v) * 3 + axis]);
+                key_points.push_back(mesh.points[(static_cast<size_t>(k) * n + v) * 3 + axis]);
             }
         }
-        offsets_.push_back(static_cast<int64_t>(key_times_.size()));
-        max_abs_coordinate_ = std::max(max_abs_coordinate_, vertex_magnitude_[v]);
+        offsets.push_back(static_cast<int64_t>(key_times.size()));
+        max_abs_coordinate_ = std::max(max_abs_coordinate_, vertex_magnitude[v]);
     }
-    merged_ = key_times_.size() < static_cast<size_t>(n) * static_cast<size_t>(sample_count);
-    segment_hint_.assign(offsets_.begin(), offsets_.end() - 1);
+    merged_ = key_times.size() < static_cast<size_t>(n) * static_cast<size_t>(sample_count);
+    segment_hint_.assign(offsets.begin(), offsets.end() - 1);
+    vertex_count_ = n;
+    offsets_ = offsets.data();
+    key_times_ = key_times.data();
+    key_points_ = key_points.data();
+    vertex_magnitude_ = vertex_magnitude.data();
+    storage_ = std::move(storage);
 }
 
 int64_t Flightplans::segment_of(int32_t v, double t) const {
@@ -119,15 +131,14 @@ int64_t Flightplans::segment_of(int32_t v, double t) const {
 }
 
 int64_t Flightplans::search_segment(int32_t v, double t) const {
-    const auto first = key_times_.begin() + offsets_[v];
-    const auto last = key_times_.begin() + offsets_[v + 1];
+    const auto first = key_times_ + offsets_[v];
+    const auto last = key_times_ + offsets_[v + 1];
     auto it = std::upper_bound(first, last, t);
     if (it == first) return offsets_[v];
-    return static_cast<int64_t>(it - key_times_.begin()) - 1;
+    return static_cast<int64_t>(it - key_times_) - 1;
 }
 
-Vec3 Flightplans::position(int32_t v, double t) const {
-    const int64_t k = segment_of(v, t);
+Vec3 Flightplans::position_in_segment(int32_t v, int64_t k, double t) const {
     const Eigen::Map<const Vec3> p0(&key_points_[3 * k]);
     if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return p0;
     const Eigen::Map<const Vec3> p1(&key_points_[3 * (k + 1)]);
@@ -137,8 +148,8 @@ Vec3 Flightplans::position(int32_t v, double t) const {
 }
 
 double Flightplans::next_breakpoint(int32_t v, double t) const {
-    const auto first = key_times_.begin() + offsets_[v];
-    const auto last = key_times_.begin() + offsets_[v + 1];
+    const auto first = key_times_ + offsets_[v];
+    const auto last = key_times_ + offsets_[v + 1];
     auto it = std::upper_bound(first, last, t);
     return it == last ? std::numeric_limits<double>::infinity() : *it;
 }

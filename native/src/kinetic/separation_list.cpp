@@ -12,10 +12,11 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int64_t kProgressEveryEvents = 1 << 14;
 /// Progress (where a stop request is raised) also comes after so many entries
-/// scheduled or narrow-phase tests run: one event can cost a hard narrow-phase
-/// test or reschedule every entry of a box, and setting up the lists (one
-/// expansion of a whole self-overlapping tree) has no events at all.
+/// scheduled or narrow-phase runs: one event can cost many narrow-phase steps
+/// or reschedule every entry of a box, and setting up the lists (one expansion
+/// of a whole self-overlapping tree) has no events at all.
 constexpr int64_t kProgressEveryWork = 1 << 8;
+constexpr double kNothingTested = -1e300;
 
 uint64_t pair_key(int32_t a, int32_t b) {
     return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
@@ -136,17 +137,29 @@ bool KineticSeparationLists::overlaps(const List& list, int32_t a, int32_t b, do
     return true;
 }
 
-void KineticSeparationLists::box_gaps(const List& list, int32_t a, int32_t b, AxisGap gaps[6]) const {
-    // Per axis: max(a) - min(b) and max(b) - min(a), grown by the list's margin;
-    // the boxes overlap exactly while all six are >= 0.
+AxisGap KineticSeparationLists::box_gap(const List& list, int32_t a, int32_t b, int gap) const {
+    // Gap 2 * axis is max(a) - min(b), gap 2 * axis + 1 is max(b) - min(a),
+    // grown by the margin; the boxes overlap exactly while all six are >= 0.
     const KineticAabbTree& ta = *trees_[list.mesh_a];
     const KineticAabbTree& tb = *trees_[list.mesh_b];
     const double margin = margin_of(list, a, b);
-    for (int axis = 0; axis < 3; ++axis) {
-        gaps[2 * axis] = {&ta.plans(), ta.extreme(a, 2 * axis + 1), &tb.plans(), tb.extreme(b, 2 * axis), axis, margin};
-        gaps[2 * axis + 1] = {&tb.plans(), tb.extreme(b, 2 * axis + 1), &ta.plans(), ta.extreme(a, 2 * axis), axis,
-                              margin};
-    }
+    const int axis = gap / 2;
+    if (gap % 2 == 0) return {&ta.plans(), ta.extreme(a, 2 * axis + 1), &tb.plans(), tb.extreme(b, 2 * axis), axis, margin};
+    return {&tb.plans(), tb.extreme(b, 2 * axis + 1), &ta.plans(), ta.extreme(a, 2 * axis), axis, margin};
+}
+
+void KineticSeparationLists::box_gaps(const List& list, int32_t a, int32_t b, AxisGap gaps[6]) const {
+    for (int gap = 0; gap < 6; ++gap) gaps[gap] = box_gap(list, a, b, gap);
+}
+
+int KineticSeparationLists::gap_of_side(int side, int slot) {
+    // Side 0 is the entry's node a: its maximum enters gap 2 * axis, its minimum gap 2 * axis + 1.
+    const int axis = slot_axis(slot);
+    return 2 * axis + ((side == 0) == slot_is_max(slot) ? 0 : 1);
+}
+
+double KineticSeparationLists::gap_rise(const List& list, int32_t a, int32_t b, int gap, double t) const {
+    return first_gap_change(box_gap(list, a, b, gap), GapChange::RisesToZero, t, t_end_, KINETIC_SEARCH_PIECES).time;
 }
 
 double KineticSeparationLists::separation_time(const List& list, int32_t a, int32_t b, double t) {
@@ -162,18 +175,18 @@ double KineticSeparationLists::separation_time(const List& list, int32_t a, int3
     return earliest;
 }
 
-double KineticSeparationLists::overlap_time(const List& list, int32_t a, int32_t b, double t) {
-    AxisGap gaps[6];
-    box_gaps(list, a, b, gaps);
+double KineticSeparationLists::overlap_time(Entry& e, double t) {
     // Boxes overlap when all six gaps are >= 0; each gap's first rise is no
-    // later than that moment, so their maximum is a bound that never fires late.
-    double latest = t;
-    for (const AxisGap& gap : gaps) {
-        const CrossingTime c = first_gap_change(gap, GapChange::RisesToZero, t, t_end_, KINETIC_SEARCH_PIECES);
-        if (std::isinf(c.time)) return kInfinity;
-        latest = std::max(latest, c.time);
+    // later than that moment, so their maximum is a bound that never fires
+    // late. Each rise stays a valid bound until that gap's vertices change,
+    // so the entry keeps all six and a box change recomputes only its own.
+    const List& list = lists_[e.list];
+    for (int gap = 0; gap < 6; ++gap) e.gap_rise[gap] = t;
+    for (int gap = 0; gap < 6; ++gap) {
+        e.gap_rise[gap] = gap_rise(list, e.a, e.b, gap, t);
+        if (std::isinf(e.gap_rise[gap])) return kInfinity;
     }
-    return latest;
+    return *std::max_element(e.gap_rise, e.gap_rise + 6);
 }
 
 // --------------------------------------------------------- front maintenance
@@ -187,7 +200,6 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     } else {
         id = static_cast<int32_t>(entries_.size());
         entries_.emplace_back();
-        reschedule_stamp_.push_back(0);
     }
     List& list = lists_[list_id];
     Entry& e = entries_[id];
@@ -208,26 +220,25 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     auto& nb = node_entries(list.mesh_b, b);
     e.slot_b = static_cast<int32_t>(nb.size());
     nb.push_back({id, 1});
-    if (overlapping_leaf) {
-        const BvhTopology& ta = trees_[list.mesh_a]->topology();
-        const BvhTopology& tb = trees_[list.mesh_b]->topology();
-        const int32_t tri_a = ta.triangle[a], tri_b = tb.triangle[b];
-        if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b)) {
-            e.inert = true;
-        } else if (initializing_ && tester_.test_static(list.mesh_a, tri_a, list.mesh_b, tri_b, t)) {
-            e.inert = true;
-        } else {
-            narrow_phase(e, t);
+    if (both_leaves(list, a, b)) {
+        const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[a];
+        const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[b];
+        e.permanent = list.self && share_vertex(list.mesh_a, tri_a, tri_b);
+        const auto saved = leaf_tested_until_.find(tester_key(list, a, b));
+        if (saved != leaf_tested_until_.end()) {
+            e.tested_until = saved->second;
+            leaf_tested_until_.erase(saved);
+        }
+        if (overlapping_leaf) {
+            if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b)) {
+                e.inert = true;
+            } else if (initializing_ && tester_.test_static(list.mesh_a, tri_a, list.mesh_b, tri_b, t)) {
+                e.inert = true;
+            }
         }
     }
     schedule(id, t);
     return id;
-}
-
-void KineticSeparationLists::worked(double t) {
-    if (progress_ && *progress_ && (++work_ % kProgressEveryWork) == 0) {
-        (*progress_)(t, static_cast<int64_t>(tester_.contacts().size()));
-    }
 }
 
 void KineticSeparationLists::remove_entry(int32_t id) {
@@ -247,6 +258,10 @@ void KineticSeparationLists::remove_entry(int32_t id) {
     };
     unlink(list.mesh_a, e.a, e.slot_a);
     unlink(list.mesh_b, e.b, e.slot_b);
+    // A leaf pair keeps what its narrow phase covered, should it come back.
+    if (!e.inert && e.tested_until > kNothingTested && both_leaves(list, e.a, e.b)) {
+        leaf_tested_until_[tester_key(list, e.a, e.b)] = e.tested_until;
+    }
     e.alive = false;
     free_entries_.push_back(id);
 }
@@ -281,7 +296,8 @@ void KineticSeparationLists::remove_descendants(int32_t list_id, int32_t a, int3
     }
 }
 
-void KineticSeparationLists::narrow_phase(Entry& e, double t) {
+void KineticSeparationLists::cover(Entry& e, double t, double until) {
+    if (e.inert || e.tested_until >= until) return;
     const List& list = lists_[e.list];
     const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[e.a];
     const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[e.b];
@@ -289,15 +305,30 @@ void KineticSeparationLists::narrow_phase(Entry& e, double t) {
         e.inert = true;
         return;
     }
-    const PairStep step = tester_.step_containing(list.mesh_a, tri_a, list.mesh_b, tri_b, t);
-    if (!step.valid()) {
-        e.tested_until = kInfinity;  // nothing moves any more: no new contact can start
-        return;
-    }
-    if (step.end <= e.tested_until) return;
-    e.tested_until = step.end;
-    if (tester_.test_step(list.mesh_a, tri_a, list.mesh_b, tri_b, step)) e.inert = true;
+    const StepRun run = tester_.test_steps(list.mesh_a, tri_a, list.mesh_b, tri_b, std::max(t, e.tested_until), until);
+    e.tested_until = run.tested_until;
+    if (run.hit) e.inert = true;
     worked(t);
+}
+
+void KineticSeparationLists::worked(double t) {
+    if (progress_ && *progress_ && (++work_ % kProgressEveryWork) == 0) {
+        (*progress_)(t, static_cast<int64_t>(tester_.contacts().size()));
+    }
+}
+
+bool KineticSeparationLists::share_vertex(int32_t mesh, int32_t tri_a, int32_t tri_b) const {
+    const Triangle& x = scene_.meshes[mesh].triangles[tri_a];
+    const Triangle& y = scene_.meshes[mesh].triangles[tri_b];
+    for (int32_t v : x) {
+        if (v == y[0] || v == y[1] || v == y[2]) return true;
+    }
+    return false;
+}
+
+uint64_t KineticSeparationLists::tester_key(const List& list, int32_t a, int32_t b) const {
+    return tester_.key(list.mesh_a, trees_[list.mesh_a]->topology().triangle[a], list.mesh_b,
+                       trees_[list.mesh_b]->topology().triangle[b]);
 }
 
 void KineticSeparationLists::schedule(int32_t id, double t) {
@@ -306,19 +337,38 @@ void KineticSeparationLists::schedule(int32_t id, double t) {
     const List& list = lists_[e.list];
     double when = kInfinity;
     if (e.overlapping_leaf) {
+        // The narrow phase covers every step until the leaves may separate, in
+        // one loop; the event then asks whether they did. Leaves that share a
+        // vertex never separate: their whole shot is covered at once.
         if (!e.inert) {
-            when = separation_time(list, e.a, e.b, t);
-            if (e.tested_until < t_end_) when = std::min(when, e.tested_until);
+            when = e.permanent ? kInfinity : separation_time(list, e.a, e.b, t);
+            cover(e, t, std::min(when, t_end_));
+            if (e.inert) when = kInfinity;
         }
     } else {
-        when = overlap_time(list, e.a, e.b, t);
-        if (e.fa >= 0) when = std::min(when, separation_time(list, e.fa, e.fb, t));
+        e.father_separation = e.fa >= 0 ? separation_time(list, e.fa, e.fb, t) : kInfinity;
+        when = std::min(overlap_time(e, t), e.father_separation);
     }
+    enqueue(id, when, t);
+}
+
+void KineticSeparationLists::enqueue(int32_t id, double when, double t) {
     if (when > t_end_) {
         queue_.cancel(entry_handle_base_ + id);
         return;
     }
     queue_.schedule(entry_handle_base_ + id, after(when, t));
+}
+
+void KineticSeparationLists::reschedule_stale_gaps(int32_t id, double t) {
+    Entry& e = entries_[id];
+    const List& list = lists_[e.list];
+    for (int gap = 0; gap < 6; ++gap) {
+        if (e.stale_gaps & (1u << gap)) e.gap_rise[gap] = gap_rise(list, e.a, e.b, gap, t);
+    }
+    e.stale_gaps = 0;
+    // The father's separation bound holds whatever changed below it.
+    enqueue(id, std::min(*std::max_element(e.gap_rise, e.gap_rise + 6), e.father_separation), t);
 }
 
 // -------------------------------------------------------------------- events
@@ -332,7 +382,6 @@ void KineticSeparationLists::process_entry_event(int32_t id, double t) {
             e.overlapping_leaf = false;
         } else {
             ++counters_.polygons_collide_events;
-            narrow_phase(e, t);
         }
         schedule(id, t);
         return;
@@ -357,7 +406,6 @@ void KineticSeparationLists::process_entry_event(int32_t id, double t) {
         ++counters_.bv_overlap_events;
         if (both_leaves(list, e.a, e.b)) {
             e.overlapping_leaf = true;
-            narrow_phase(e, t);
             schedule(id, t);
         } else {
             const int32_t list_id = e.list, a = e.a, b = e.b;
@@ -369,22 +417,19 @@ void KineticSeparationLists::process_entry_event(int32_t id, double t) {
     schedule(id, t);  // the overlap bound fired early: look again from here
 }
 
-void KineticSeparationLists::node_changed(int32_t mesh, int32_t node) {
+void KineticSeparationLists::node_changed(int32_t mesh, int32_t node, int slot) {
     ++counters_.bv_change_events;
-    const auto enqueue = [&](int32_t id) {
-        if (reschedule_stamp_[id] != stamp_) {
-            reschedule_stamp_[id] = stamp_;
-            pending_reschedule_.push_back(id);
-        }
-    };
-    for (const NodeRef& ref : node_entries(mesh, node)) enqueue(ref.entry);
-    const BvhTopology& topo = trees_[mesh]->topology();
-    if (topo.is_leaf(node)) return;
-    for (int32_t child : {topo.left[node], topo.right[node]}) {
-        for (const NodeRef& ref : node_entries(mesh, child)) {
-            const Entry& e = entries_[ref.entry];
-            if (e.fa == node || e.fb == node) enqueue(ref.entry);
-        }
+    // Only a pending overlap event can become late when a box grows, and only
+    // through the one gap the changed side enters. Separation events (of
+    // overlapping leaves, and of the father an entry hangs from) computed with
+    // a vertex that is no longer extreme can only come early, since no single
+    // vertex reaches beyond its box's true side; an early event looks again,
+    // a late one would merely keep the front finer for longer.
+    for (const NodeRef& ref : node_entries(mesh, node)) {
+        Entry& e = entries_[ref.entry];
+        if (e.overlapping_leaf) continue;
+        if (e.stale_gaps == 0) pending_reschedule_.push_back(ref.entry);
+        e.stale_gaps |= static_cast<uint8_t>(1u << gap_of_side(ref.side, slot));
     }
 }
 
@@ -398,21 +443,18 @@ void KineticSeparationLists::process_tree_event(int64_t handle, double t) {
     const int64_t local = handle - tree_handle_base_[mesh];
     int32_t node = static_cast<int32_t>(local / BOX_SLOTS);
     const int slot = static_cast<int>(local % BOX_SLOTS);
-    ++stamp_;
     pending_reschedule_.clear();
     bool changed = tree.repick(node, slot, t);
     queue_.schedule(handle, tree.certificate_failure(node, slot, t, t_end_));
     while (changed) {
-        node_changed(mesh, node);
+        node_changed(mesh, node, slot);
         node = tree.topology().parent[node];
         if (node < 0) break;
         changed = tree.repick(node, slot, t);
         const int64_t parent_handle = tree_handle_base_[mesh] + static_cast<int64_t>(node) * BOX_SLOTS + slot;
         queue_.schedule(parent_handle, tree.certificate_failure(node, slot, t, t_end_));
     }
-    for (int32_t id : pending_reschedule_) {
-        if (entries_[id].alive) schedule(id, t);
-    }
+    for (int32_t id : pending_reschedule_) reschedule_stale_gaps(id, t);
 }
 
 void KineticSeparationLists::run(const ProgressCallback& progress) {

@@ -41,6 +41,24 @@ constexpr double CLIP_FRACTION_GROW = 1.0 + 16.0 * DOUBLE_UNIT_ROUNDOFF;
 ///        (dimensionless; a speed heuristic, not an accuracy setting).
 constexpr double CLIP_AGAIN_BELOW_KEPT_VOLUME = 0.5;
 
+/// @brief Vertex-face parameter origin (speed heuristics, dimensionless, no
+///        effect on answers): the corner opposite the face's longest edge
+///        is the origin unless the vertex's barycentric weight on it is below
+///        FACE_ORIGIN_NEAR_EDGE_WEIGHT (the vertex runs near that edge, which
+///        would cut boxes diagonally); then the origin is the corner of
+///        largest weight among those whose opposite edge is at least
+///        FACE_ORIGIN_WIDE_EDGE_RATIO of the longest (angle not narrow).
+constexpr double FACE_ORIGIN_NEAR_EDGE_WEIGHT = 0.05;
+constexpr double FACE_ORIGIN_WIDE_EDGE_RATIO = 0.7;
+
+/// @brief How many times finer than (tolerance x the query's largest reach)
+///        the root finder resolves the face or edge parameters spatially
+///        (dimensionless). A parameter is refined to the parametric tolerance
+///        unless its edge is more than this many times shorter than the
+///        query's reach, as on a blown-up sliver; 10 keeps every answer on the
+///        public query sets as with purely parametric tolerances.
+constexpr double SPATIAL_TOLERANCE_MARGIN = 10.0;
+
 /// @brief Smallest tolerance (interval fraction) the root finder accepts;
 ///        finer requests are raised to it so refinement always terminates.
 constexpr double CCD_MIN_TOLERANCE = 1.0 / 4503599627370496.0; // 2^-52

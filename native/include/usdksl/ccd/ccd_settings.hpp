@@ -31,6 +31,9 @@ struct CCDResult {
     double reached_tolerance = 0.0;
     /// @brief True when the iteration cap stopped the search.
     bool undecided = false;
+    /// @brief Parameter boxes the root search examined (the quantity
+    ///        max_iterations caps); a machine-independent measure of cost.
+    int64_t iterations = 0;
 };
 
 } // namespace usdksl

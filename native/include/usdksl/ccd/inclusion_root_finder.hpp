@@ -33,10 +33,14 @@ struct MultilinearDistance {
 ///        distance function may come within settings.thickness (per axis,
 ///        hence never missing a Euclidean contact), found by clipping and
 ///        subdividing the (t,u,v) box earliest-time first until the box is
-///        narrower than settings.tolerance on every parameter. Conservative:
+///        narrower than settings.tolerance in t, and in u and v than the same
+///        tolerance or, for an edge far shorter than the query's reach, the
+///        same spatial resolution (see parameter_tolerances). Conservative:
 ///        boxes are only discarded, and only clipped, where their corner
 ///        values, inflated by a rounding-error bound derived from the input
-///        magnitude, rule out the thickness cube or a separating slab.
+///        magnitude, rule out the thickness cube or a separating slab. For
+///        vertex-face pairs the root search picks which face corner is the
+///        (u,v) origin (the face is the same point set either way).
 CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,
                              double t_max);
 

@@ -39,6 +39,13 @@ struct CheckOptions {
     CCDSettings ccd;
     /// @brief Discrete method only: static tests per step (1 = at samples only).
     int32_t discrete_substeps = 1;
+    /// @brief Threads to use (<= 0: every hardware thread). The range is split
+    ///        into time windows checked in parallel; the contacts are the same
+    ///        bit for bit whatever the count.
+    int32_t threads = 1;
+    /// @brief Called with (time code reached, contacts so far); with several
+    ///        threads, calls are serialized and the time is the start of the
+    ///        range plus the total time covered by all windows.
     ProgressCallback progress;
 };
 

@@ -22,6 +22,15 @@ struct PairStep {
     bool valid() const { return end > begin; }
 };
 
+/// @brief Outcome of testing consecutive steps of one triangle pair.
+struct StepRun {
+    /// @brief End (time code) of the last step tested; +inf when the pair's
+    ///        vertices all hold still after it, so no later step exists.
+    double tested_until;
+    /// @brief True when a step had a contact (recorded; the run stopped there).
+    bool hit;
+};
+
 /// @brief Tests triangle pairs and records each pair's first contact. Every
 ///        method goes through it, so equal inputs give equal contact times.
 ///        The thickness of `settings` is the user's; each pair is tested at
@@ -42,8 +51,18 @@ public:
     /// @brief Continuous test over the whole step; records and returns true on contact.
     bool test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, const PairStep& step);
 
+    /// @brief Tests the pair's steps in time order, from the one containing
+    ///        time code `from` until one ends at or after `until`, stopping at
+    ///        the first contact. Each step is tested exactly as test_step
+    ///        tests step_containing(...) (bit-identical answers), but the
+    ///        flightplan segments are walked with a local cursor.
+    StepRun test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from, double until);
+
     /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);
+
+    /// @brief A key naming the triangle pair, equal for both orders, unique within the scene.
+    uint64_t key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
 
     /// @brief First contacts found so far, in discovery order.
     const std::vector<Contact>& contacts() const { return contacts_; }
@@ -53,7 +72,11 @@ public:
 private:
     static void canonical_order(int32_t& mesh_a, int32_t& tri_a, int32_t& mesh_b, int32_t& tri_b);
     CCDSettings settings_for(int32_t mesh_a, int32_t mesh_b) const;
-    uint64_t key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
+    /// Narrow phase of one canonically ordered pair over `step`, given the
+    /// positions at its ends; records and returns true on contact.
+    bool test_positions(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, const PairStep& step,
+                        const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
+                        const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1);
     void record(const Contact& contact);
 
     const Scene& scene_;

@@ -6,6 +6,7 @@
 #include "usdksl/types.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace usdksl {
@@ -27,7 +28,7 @@ public:
     ///        that stretch of time).
     Flightplans(const MeshAnimation& mesh, bool merge_collinear);
 
-    int32_t vertex_count() const { return static_cast<int32_t>(offsets_.size()) - 1; }
+    int32_t vertex_count() const { return vertex_count_; }
 
     /// @brief Index range [key_begin(v), key_end(v)) of vertex v's breakpoints.
     int64_t key_begin(int32_t v) const { return offsets_[v]; }
@@ -56,7 +57,20 @@ public:
     }
 
     /// @brief Position of vertex v at time code t.
-    Vec3 position(int32_t v, double t) const;
+    Vec3 position(int32_t v, double t) const { return position_in_segment(v, segment_of(v, t), t); }
+
+    /// @brief Position of vertex v at time code t, given the segment k that
+    ///        contains t (as segment_of(v, t) returns it); bit-identical to position().
+    Vec3 position_in_segment(int32_t v, int64_t k, double t) const;
+
+    /// @brief Moves segment index k of vertex v forward to the segment that
+    ///        contains time code t (as segment_of(v, t) would return it), for
+    ///        callers that walk forward in time with their own cursor. k must
+    ///        be a segment of v at or before t's.
+    int64_t advance_segment(int32_t v, int64_t k, double t) const {
+        while (k + 1 < offsets_[v + 1] && key_times_[k + 1] <= t) ++k;
+        return k;
+    }
 
     /// @brief Earliest breakpoint of v strictly after time code t (+inf when none).
     double next_breakpoint(int32_t v, double t) const;
@@ -81,13 +95,24 @@ public:
 private:
     int64_t search_segment(int32_t v, double t) const;
 
-    std::vector<int64_t> offsets_;
+    /// The breakpoints, shared by copies: a copy costs one cursor per vertex,
+    /// so each thread can walk its own.
+    struct Storage {
+        std::vector<int64_t> offsets;
+        std::vector<double> key_times;
+        std::vector<double> key_points;
+        std::vector<double> vertex_magnitude;
+    };
+    std::shared_ptr<const Storage> storage_;
+    int32_t vertex_count_ = -1;
+    const int64_t* offsets_ = nullptr;
+    const double* key_times_ = nullptr;
+    const double* key_points_ = nullptr;
+    const double* vertex_magnitude_ = nullptr;
     /// Last segment found per vertex: queries mostly move forward in time, so
-    /// the answer is usually this segment or the next (a cache, not state).
+    /// the answer is usually this segment or the next (a cache, not state;
+    /// each copy has its own, so copies may be used from different threads).
     mutable std::vector<int64_t> segment_hint_;
-    std::vector<double> key_times_;
-    std::vector<double> key_points_;
-    std::vector<double> vertex_magnitude_;
     double max_abs_coordinate_ = 0.0;
     double merge_deviation_ = 0.0;
     bool merged_ = false;

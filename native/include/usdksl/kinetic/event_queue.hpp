@@ -21,24 +21,26 @@ public:
     void cancel(int64_t handle);
     bool empty() const { return heap_.empty(); }
     /// @brief Time code of the earliest event (+inf when empty).
-    double top_time() const {
-        return heap_.empty() ? std::numeric_limits<double>::infinity() : time_[heap_[0]];
-    }
+    double top_time() const { return heap_.empty() ? std::numeric_limits<double>::infinity() : heap_[0].time; }
     /// @brief Removes and returns the earliest event's handle.
     int64_t pop();
 
 private:
-    bool before(int64_t a, int64_t b) const {
-        return time_[a] < time_[b] || (time_[a] == time_[b] && a < b);
+    /// Keys live in the heap itself, so sifting reads no other array.
+    struct Event {
+        double time;
+        int64_t handle;
+    };
+    static bool before(const Event& a, const Event& b) {
+        return a.time < b.time || (a.time == b.time && a.handle < b.handle);
     }
     void ensure(int64_t handle);
-    void place(size_t index, int64_t handle);
+    void place(size_t index, const Event& event);
     void sift_up(size_t index);
     void sift_down(size_t index);
 
-    std::vector<int64_t> heap_;
+    std::vector<Event> heap_;
     std::vector<int64_t> position_;  // -1 when not queued
-    std::vector<double> time_;
 };
 
 } // namespace usdksl

@@ -1,0 +1,49 @@
+"""``usdksl merge SHOT PART_DIR... --out DIR``: farm chunks of one shot joined into one run's outputs."""
+
+import sys
+
+import click
+
+from ..baseline import read_baseline
+from ..checking.pipeline import output_targets
+from ..errors import UsdkslInputError
+from ..reports.output import write_files
+from ..scale.merge import merge_chunks
+
+
+@click.command()
+@click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("parts", nargs=-1, required=True, metavar="PART_DIR...",
+                type=click.Path(file_okay=False, path_type=str))
+@click.option("--out", "out", type=click.Path(path_type=str), default=None,
+              help="Directory for the merged files (default: beside SHOT; created when missing).")
+@click.option("--json", "json_path", metavar="FILE", default=None,
+              help="Also write the JSON report of the merged run; '-' for stdout.")
+@click.option("--junit", "junit_path", metavar="FILE", default=None,
+              help="Also write the JUnit XML report of the merged run.")
+@click.option("--baseline", "baseline", metavar="FILE", default=None,
+              help="Contacts accepted earlier (as for check): only new contacts count for the exit code.")
+@click.option("--baseline-time-tolerance", type=float, default=None, metavar="T",
+              help="Also require a baseline entry's time to be within T time codes of the contact's.")
+@click.option("--plot", "plot_path", metavar="FILE.png", default=None,
+              help="Also draw the contact timeline (the chunks must have been checked with --last-contact).")
+def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path):
+    """Join the outputs of `usdksl check SHOT --time-range A B --out PART_DIR` chunks into what one run over
+    the union of their ranges writes.
+
+    Refuses (exit 2, one line) chunks that leave a gap, overlap with different answers, or come from
+    another shot, usdksl version or set of options. Exit 0 clean, 1 contacts found.
+    """
+    try:
+        targets = output_targets(shot, out, json_path, junit_path, plot_path)
+        accepted = None if baseline is None else read_baseline(baseline, baseline_time_tolerance)
+        result = merge_chunks(shot, parts, targets, accepted)
+        write_files(result.files)
+    except UsdkslInputError as error:
+        click.echo(f"usdksl: error: {error}", err=True)
+        sys.exit(error.exit_code)
+    if result.stdout is not None:
+        sys.stdout.write(result.stdout)
+    chunks = f"{len(parts)} chunk{'s' if len(parts) != 1 else ''}"
+    click.echo(f"usdksl: merged {chunks}: {result.summary[len('usdksl: '):]}", err=True)
+    sys.exit(result.exit_code)

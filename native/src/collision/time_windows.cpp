@@ -1,0 +1,53 @@
+#include "usdksl/collision/time_windows.hpp"
+
+#include "usdksl/broad_phase/sample_times.hpp"
+
+#include <algorithm>
+
+namespace usdksl {
+
+std::vector<TimeWindow> split_into_windows(const Scene& scene,
+                                           const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                                           double t_begin, double t_end, int32_t count) {
+    const std::vector<double> times = merged_sample_times(scene, mesh_pairs, t_begin, t_end);
+    // times holds t_begin, t_end and every sample strictly between them.
+    const int64_t inner = static_cast<int64_t>(times.size()) - 2;
+    count = static_cast<int32_t>(std::min<int64_t>(count, inner + 1));
+    if (count <= 1) return {TimeWindow{t_begin, t_end}};
+
+    // How many flightplan breakpoints fall on each sample time.
+    std::vector<int64_t> shared(times.size(), 0);
+    std::vector<bool> used(scene.meshes.size(), false);
+    for (const auto& [a, b] : mesh_pairs) used[a] = used[b] = true;
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        if (!used[m]) continue;
+        const Flightplans& plans = scene.plans[m];
+        for (int32_t v = 0; v < plans.vertex_count(); ++v) {
+            for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
+                const auto it = std::lower_bound(times.begin(), times.end(), plans.key_time(k));
+                if (it != times.end() && *it == plans.key_time(k)) ++shared[it - times.begin()];
+            }
+        }
+    }
+    std::vector<TimeWindow> windows;
+    int64_t previous = 0;
+    const double spacing = static_cast<double>(inner + 1) / count;
+    for (int32_t w = 1; w < count; ++w) {
+        const int64_t ideal = static_cast<int64_t>(w * spacing + 0.5);
+        const int64_t reach = static_cast<int64_t>(spacing / 4);
+        int64_t best = -1;
+        for (int64_t i = std::max(previous + 1, ideal - reach); i <= std::min(inner, ideal + reach); ++i) {
+            const auto distance = [&](int64_t j) { return j > ideal ? j - ideal : ideal - j; };
+            if (best < 0 || shared[i] > shared[best] || (shared[i] == shared[best] && distance(i) < distance(best))) {
+                best = i;
+            }
+        }
+        if (best < 0) continue;
+        windows.push_back({times[previous], times[best]});
+        previous = best;
+    }
+    windows.push_back({times[previous], t_end});
+    return windows;
+}
+
+} // namespace usdksl

@@ -1,0 +1,100 @@
+/// @file flightplans_test.cpp
+/// @brief Merged flightplans stay within their stated deviation of the raw
+///        samples, and the merge tolerance is local to each vertex.
+
+#include "animations.hpp"
+#include "usdksl/constants.hpp"
+#include "usdksl/flightplan/flightplans.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using usdksl::Flightplans;
+using usdksl::MeshAnimation;
+using usdksl::Vec3;
+using usdksl::animations::random_walk;
+using usdksl::animations::raw_position;
+
+namespace {
+
+/// Largest infinity-norm distance between merged and raw positions of v over
+/// every sample time and every midpoint between samples.
+double worst_deviation(const Flightplans& plans, const MeshAnimation& mesh, int32_t v) {
+    double worst = 0.0;
+    for (size_t k = 0; k < mesh.times.size(); ++k) {
+        const double t = mesh.times[k];
+        worst = std::max(worst, (plans.position(v, t) - raw_position(mesh, v, t)).cwiseAbs().maxCoeff());
+        if (k + 1 < mesh.times.size()) {
+            const double mid = 0.5 * (t + mesh.times[k + 1]);
+            worst = std::max(worst, (plans.position(v, mid) - raw_position(mesh, v, mid)).cwiseAbs().maxCoeff());
+        }
+    }
+    return worst;
+}
+
+} // namespace
+
+TEST(Flightplans, RawPlansReproduceEverySample) {
+    const MeshAnimation mesh = random_walk(30, 25, 7, 0.0);
+    const Flightplans raw(mesh, false);
+    EXPECT_FALSE(raw.merged());
+    EXPECT_EQ(raw.merge_deviation(), 0.0);
+    for (int32_t v = 0; v < mesh.vertex_count; ++v) {
+        EXPECT_EQ(raw.key_end(v) - raw.key_begin(v), static_cast<int64_t>(mesh.times.size()));
+        EXPECT_EQ(worst_deviation(raw, mesh, v), 0.0);
+    }
+}
+
+TEST(Flightplans, MergingDropsCollinearSamplesWithinTheStatedDeviation) {
+    for (double noise : {0.0, 1e-9, 1e-7}) {
+        const MeshAnimation mesh = random_walk(60, 40, 11, noise);
+        const Flightplans merged(mesh, true);
+        EXPECT_TRUE(merged.merged()) << "straight runs must merge (noise " << noise << ")";
+        int64_t breakpoints = 0;
+        for (int32_t v = 0; v < mesh.vertex_count; ++v) {
+            breakpoints += merged.key_end(v) - merged.key_begin(v);
+            const double worst = worst_deviation(merged, mesh, v);
+            // Positions between samples are linear in both, so the sample
+            // deviation bounds the whole trajectory.
+            EXPECT_LE(worst, merged.merge_deviation() * (1.0 + 1e-12)) << "vertex " << v;
+            EXPECT_LE(worst, usdksl::FLIGHTPLAN_COLLINEAR_TOLERANCE * merged.vertex_magnitude(v) * 1.01)
+                << "vertex " << v;
+        }
+        EXPECT_LT(breakpoints, static_cast<int64_t>(mesh.vertex_count) * 40);
+    }
+}
+
+TEST(Flightplans, AFarAwaySampleOfOneVertexLoosensNoOtherVertex) {
+    MeshAnimation calm = random_walk(30, 30, 5, 1e-7);
+    MeshAnimation blown = calm;
+    blown.points[(static_cast<size_t>(15) * 30 + 4) * 3 + 1] = 1e9;  // vertex 4 at sample 15
+    const Flightplans a(calm, true), b(blown, true);
+    for (int32_t v = 0; v < 30; ++v) {
+        if (v == 4) continue;
+        ASSERT_EQ(a.key_end(v) - a.key_begin(v), b.key_end(v) - b.key_begin(v)) << "vertex " << v;
+        for (int64_t k = 0; k < a.key_end(v) - a.key_begin(v); ++k) {
+            EXPECT_EQ(a.key_time(a.key_begin(v) + k), b.key_time(b.key_begin(v) + k));
+        }
+        EXPECT_EQ(a.vertex_magnitude(v), b.vertex_magnitude(v));
+    }
+    EXPECT_GE(b.vertex_magnitude(4), 1e9);
+    // The spike itself is kept: it is not on any chord.
+    EXPECT_EQ(b.position(4, 15.0)[1], 1e9);
+}
+
+TEST(Flightplans, SegmentLookupAgreesWithBinarySearchInAnyQueryOrder) {
+    const MeshAnimation mesh = random_walk(9, 50, 3, 0.0);
+    const Flightplans merged(mesh, true);
+    const double queries[] = {0.0, 49.0, 12.5, 3.0, 48.9, 0.1, 25.0, 25.0, 60.0, -5.0};
+    for (int32_t v = 0; v < 9; ++v) {
+        for (double t : queries) {
+            const int64_t k = merged.segment_of(v, t);
+            EXPECT_GE(k, merged.key_begin(v));
+            EXPECT_LT(k, merged.key_end(v));
+            if (t >= merged.key_time(merged.key_begin(v))) EXPECT_LE(merged.key_time(k), t);
+            if (k + 1 < merged.key_end(v)) EXPECT_GT(merged.key_time(k + 1), t);
+        }
+    }
+}

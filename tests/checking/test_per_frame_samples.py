@@ -1,0 +1,97 @@
+"""samples/generate.py's per-frame scene (flutter) writes what it says: a sample at every frame, vertices on
+curves (no three consecutive samples collinear, so flightplan merging has nothing to drop), and a cloth
+that rests on a collider for many frames; and the core finds its contacts at every density."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pxr import Usd, UsdGeom
+
+from usdksl.checking.collision import find_contacts
+from usdksl.reading.loader import load_shot
+from usdksl.reading.scope import plan_shot
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO_ROOT / "samples"))
+import generate  # noqa: E402
+
+FRAMES = 24
+FACES = 120
+#: Smallest distance (scene units) of a middle sample from the chord of its two neighbours that the test
+#: accepts: far above the core's merge tolerance (FLIGHTPLAN_COLLINEAR_TOLERANCE = 2^-22 times the largest
+#: coordinate, ~3e-7 here), so no sample can merge away. The generator's circling keeps it near 8e-4.
+MIN_CHORD_DEVIATION = 1e-4
+
+
+@pytest.fixture(scope="module")
+def flutter(tmp_path_factory):
+    out = tmp_path_factory.mktemp("flutter") / "flutter.usdc"
+    subprocess.run([sys.executable, str(REPO_ROOT / "samples" / "generate.py"), "flutter", "--faces", str(FACES),
+                    "--frames", str(FRAMES), "--out", str(out)], check=True, capture_output=True)
+    return out
+
+
+def chord_deviation(points: np.ndarray) -> np.ndarray:
+    """float[K - 2, N]: distance of sample k+1 from the segment between samples k and k+2."""
+    a, b, c = points[:-2], points[1:-1], points[2:]
+    chord = c - a
+    length = np.linalg.norm(chord, axis=-1, keepdims=True)
+    direction = chord / np.where(length > 0, length, 1.0)
+    offset = b - a
+    return np.linalg.norm(offset - np.sum(offset * direction, axis=-1, keepdims=True) * direction, axis=-1)
+
+
+def test_every_frame_is_a_sample(flutter):
+    stage = Usd.Stage.Open(str(flutter))
+    expected = [float(t) for t in range(1, FRAMES + 1)]
+    cloth = UsdGeom.Mesh(stage.GetPrimAtPath("/World/Cloth"))
+    assert cloth.GetPointsAttr().GetTimeSamples() == expected
+    pendulum = UsdGeom.Xformable(stage.GetPrimAtPath("/World/Pendulum"))
+    for op in pendulum.GetOrderedXformOps():
+        assert op.GetAttr().GetTimeSamples() == expected
+    shot = load_shot(str(flutter))
+    assert shot.times.tolist() == expected
+
+
+def test_vertices_move_on_curves(flutter):
+    shot = load_shot(str(flutter))
+    moving = {mesh.path: mesh for mesh in shot.meshes if mesh.kind != "static"}
+    assert set(moving) == {"/World/Cloth", "/World/Pendulum/Ball"}
+    for mesh in moving.values():
+        deviation = chord_deviation(np.asarray(mesh.points, np.float64))
+        # every vertex, at every inner sample: merging two segments would move it by at least this much
+        assert deviation.min() > MIN_CHORD_DEVIATION, mesh.path
+
+
+def test_cloth_rests_on_the_table_for_most_of_the_shot(flutter):
+    shot = load_shot(str(flutter))
+    cloth = next(m for m in shot.meshes if m.path == "/World/Cloth")
+    top = next(m for m in shot.meshes if m.path == "/World/Table/Top")
+    table_top = top.points[0, :, 1].max()
+    half_x, half_z = top.points[0, :, 0].max(), top.points[0, :, 2].max()
+    points = np.asarray(cloth.points, np.float64)
+    over_table = (np.abs(points[0, :, 0]) < half_x - 0.02) & (np.abs(points[0, :, 2]) < half_z - 0.02)
+    assert over_table.sum() > 10
+    gap = points[:, over_table, 1] - table_top
+    resting = np.all(np.abs(gap - generate.FLUTTER_REST_GAP) < 1e-5, axis=1)
+    assert resting.sum() >= FRAMES // 2
+    assert resting[-1] and not resting[0]
+    # resting is at a gap: it never touches the top, but the falling cloth started above it
+    assert gap.min() > 0.0
+
+
+@pytest.mark.parametrize("method", ["ksl", "swept"])
+def test_contacts_with_table_and_pendulum_are_found(flutter, method):
+    shot = load_shot(str(flutter))
+    plan = plan_shot(shot)
+    result = find_contacts(shot.meshes, plan.pairs, method=method)
+    faces = result.face_contacts(shot.meshes)
+    paths = [mesh.path for mesh in shot.meshes]
+    touched = {(paths[a], paths[b]) for a, b in zip(faces.mesh_a.tolist(), faces.mesh_b.tolist())}
+    cloth, top, ball = (paths.index(p) for p in ("/World/Cloth", "/World/Table/Top", "/World/Pendulum/Ball"))
+    assert tuple(sorted((paths[cloth], paths[top]))) in {tuple(sorted(p)) for p in touched}
+    assert tuple(sorted((paths[cloth], paths[ball]))) in {tuple(sorted(p)) for p in touched}
+    assert result.counters["narrow_phase_tests"] > 0
