@@ -179,3 +179,24 @@ def test_random_animations_ksl_and_swept_match_brute_force(meshes):
         for key, t in reference.items():
             # Both are conservative: within the CCD tolerance of a step (a step is <= the span).
             assert abs(found[key] - t) <= 4 * TOLERANCE * span + 1e-9, (method, key, found[key], t)
+
+
+#: A mesh found by the fuzz suite (tests/fuzz): a quad collapsed onto one edge (indices 0, 0, 1, 0) whose
+#: vertex 1 lies 1.4e-45 (a float32 subnormal) off the collapsed triangle 2, 0, 3; nothing moves.
+STILL_POINTS = [[-0.42168834805488586, -0.3333333432674408, 1.899999976158142], [-1.401298464324817e-45, 0.0, 0.0],
+                [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, -0.0]]
+
+
+@pytest.mark.parametrize("gap, touching", [(0.0, True), (1e-3, False)])
+def test_a_pair_that_never_moves_gets_the_same_answer_from_every_method(gap, touching):
+    """KSL's flightplans have no step for vertices that hold still, so only its static test at the first
+    sample sees such a pair, while swept and brute force also run the continuous test on the steps
+    between raw samples. A gap the continuous test cannot tell from contact must count as contact in
+    the static test too."""
+    points = np.array(STILL_POINTS)
+    points[1, 0] -= gap
+    still = animated([16.0, 26.0], [points, points], [[0, 0, 1], [2, 0, 3]])
+    answers = {method: contacts_by_pair(find_contacts([still], [(0, 0)], method=method, tolerance=TOLERANCE))
+               for method in ("brute", "ksl", "swept", "discrete")}
+    expected = {(0, 0, 0, 1): 16.0} if touching else {}
+    assert all(answer == expected for answer in answers.values()), answers
