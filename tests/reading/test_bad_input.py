@@ -147,6 +147,23 @@ def test_files_that_are_not_usd(tmp_path, name, content):
     assert path.read_bytes() == content
 
 
+@pytest.mark.parametrize("content, line", [
+    (b'#usda 1.0\n\ndef Mesh "M\xff\xfe"\n{\n}\n', 3),                                      # in a prim name
+    (b'#usda 1.0\n\ndef Mesh "M"\n{\n    point3f[] points = [(0, 0, 0), (1, 0, \xc3\x28)]\n}\n', 5),  # in a value
+])
+def test_usda_with_bytes_that_are_not_utf8(tmp_path, content, line):
+    """USD's parser quotes the bytes it stopped at, which Python cannot decode: still one line, with
+    the line of the first such bytes (this was an internal error, found by the fuzz suite)."""
+    path = tmp_path / "shot.usda"
+    path.write_bytes(content)
+    with pytest.raises(UsdkslInputError) as raised:
+        load_shot(path)
+    text = str(raised.value)
+    assert text.startswith(f"{path}: cannot open as USD: bytes that are not UTF-8 text (first at line {line})")
+    assert "\n" not in text
+    assert path.read_bytes() == content
+
+
 def test_truncated_usdc(tmp_path):
     whole = tmp_path / "whole.usdc"
     stage = Usd.Stage.CreateNew(str(whole))
