@@ -163,3 +163,13 @@ def test_more_threads_need_more_and_the_advice_says_one_thread_fits():
         check_memory(size, "ksl", limit=(one + two) // 2, threads=2)
     assert "--threads 1" in str(refused.value)
     assert check_memory(size, "ksl", limit=(one + two) // 2, threads=1) == one
+
+
+def test_the_scan_leaves_out_a_mesh_it_cannot_read(tmp_path):
+    """A points value of a type USD does not know (found by fuzzing) is the loader's to report."""
+    text = (REPO_ROOT / "samples" / "drape.usda").read_text()
+    path = tmp_path / "shot.usda"
+    path.write_text(text.replace("point3f[] points = [(-0.5", "point9f[] points = [(-0.5"))
+    whole = scan_shot(str(REPO_ROOT / "samples" / "drape.usda"))
+    size = scan_shot(str(path))
+    assert size.meshes == whole.meshes - 1 and 0 < size.vertex_samples < whole.vertex_samples

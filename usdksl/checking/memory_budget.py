@@ -161,6 +161,8 @@ def scan_shot(path: str, time_range: Optional[TimeRange] = None, include=None) -
             times = mesh_sample_times(prim)
             first = float(times[0]) if times.size else (time_range[0] if time_range else 0.0)
             points = mesh.GetPointsAttr().Get(first)
+            # a value USD could not parse as its type comes back as an opaque object: counted as nothing
+            point_count = len(points) if points is not None else 0
             counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(first) or [], dtype=np.int64)
         except Exception:   # noqa: BLE001  (left out of the count; the loader reports it)
             continue
@@ -169,7 +171,7 @@ def scan_shot(path: str, time_range: Optional[TimeRange] = None, include=None) -
             starts.append(max(float(times[0]), time_range[0]) if time_range else float(times[0]))
             ends.append(min(float(times[-1]), time_range[1]) if time_range else float(times[-1]))
         size.meshes += 1
-        size.vertex_samples += max(samples, 1) * (len(points) if points is not None else 0)
+        size.vertex_samples += max(samples, 1) * point_count
         size.triangles += int(np.clip(counts - 2, 0, None).sum())
     if time_range is not None:
         size.span = time_range

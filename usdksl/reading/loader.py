@@ -211,9 +211,18 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
     values evaluated exactly at a and b. ``include``: see :func:`mesh_prims`.
     Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input.
     """
+    file = os.fspath(path)
+    try:
+        return _load_shot(file, time_range, include)
+    except UsdkslInputError as error:   # readers below the loader know the prim but not the file
+        if error.file:
+            raise
+        raise type(error)(error.message, file=file, prim=error.prim, time=error.time) from None
+
+
+def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: IncludeFilter) -> Shot:
     from . import instancing, layer_rates, skinning   # they build on this module
 
-    file = os.fspath(path)
     time_range = _check_time_range(file, time_range)
     stage = open_stage(file)
     metadata = stage_metadata(stage)
