@@ -109,10 +109,14 @@ def _echo(line: str) -> None:
 @click.option("--threads", type=click.IntRange(min=1), default=None, metavar="N",
               help="Threads per check (default: every core this process may use); results are identical for "
                    "any count.")
+@click.option("--memory-limit", default=None, metavar="SIZE",
+              help="Memory a shot's check may use (8G, 512M, bytes; 'off': no check). Default: the "
+                   "environment variable USDKSL_MEMORY_LIMIT, else what the machine has available. A "
+                   "shot estimated to need more is refused (exit 2) before it is loaded.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
           baseline_time_tolerance, plot_path, json_path, junit_path, strict, verbosity, jobs, scheduler,
-          timeout, threads):
+          timeout, threads, memory_limit):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -125,7 +129,8 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
                            inter_check=inter_check, time_range=time_range, prims=tuple(prims),
                            exclude=tuple(exclude), include_guides=include_guides,
                            include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
-                           last_contact=last_contact or plot_path is not None, strict=strict, threads=threads)
+                           last_contact=last_contact or plot_path is not None, strict=strict,
+                           threads=threads, memory_limit=memory_limit)
     shots = expand_shots(shots)
     finished = []
     single = len(shots) == 1 and jobs is None and scheduler is None

@@ -147,6 +147,23 @@ def test_files_that_are_not_usd(tmp_path, name, content):
     assert path.read_bytes() == content
 
 
+@pytest.mark.parametrize("content, line", [
+    (b'#usda 1.0\n\ndef Mesh "M\xff\xfe"\n{\n}\n', 3),                                      # in a prim name
+    (b'#usda 1.0\n\ndef Mesh "M"\n{\n    point3f[] points = [(0, 0, 0), (1, 0, \xc3\x28)]\n}\n', 5),  # in a value
+])
+def test_usda_with_bytes_that_are_not_utf8(tmp_path, content, line):
+    """USD's parser quotes the bytes it stopped at, which Python cannot decode: still one line, with
+    the line of the first such bytes (this was an internal error, found by the fuzz suite)."""
+    path = tmp_path / "shot.usda"
+    path.write_bytes(content)
+    with pytest.raises(UsdkslInputError) as raised:
+        load_shot(path)
+    text = str(raised.value)
+    assert text.startswith(f"{path}: cannot open as USD: bytes that are not UTF-8 text (first at line {line})")
+    assert "\n" not in text
+    assert path.read_bytes() == content
+
+
 def test_truncated_usdc(tmp_path):
     whole = tmp_path / "whole.usdc"
     stage = Usd.Stage.CreateNew(str(whole))
@@ -183,3 +200,23 @@ def test_loading_never_writes_the_input(build):
     shot = load_shot(path)
     assert not shot.stage.GetRootLayer().dirty
     assert file_digest(path) == digest
+
+
+@pytest.mark.parametrize("sample, authored, unknown, prim", [
+    ("drape", 'point3f[] points = [(-0.5', 'point9f[] points = [(-0.5', "/World/Box"),
+    ("drape", "int[] faceVertexCounts = [4, 4, 4, 4, 4, 4]", "int9[] faceVertexCounts = [4, 4, 4, 4, 4, 4]",
+     "/World/Box"),
+    ("drape", "int[] faceVertexIndices = [0, 21", "int9[] faceVertexIndices = [0, 21", "/World/Cloth"),
+    ("clean", "uniform token[] xformOpOrder", "uniform token9[] xformOpOrder", "/World/Mover"),
+])
+def test_attributes_authored_with_a_type_usd_does_not_know(samples_dir, tmp_path, sample, authored, unknown, prim):
+    """USD opens such a file and hands back an opaque value (an unknown transform order is even dropped,
+    which would check the mesh where it is not): one line naming file and prim (found by fuzzing)."""
+    text = (samples_dir / f"{sample}.usda").read_text()
+    assert text.count(authored) == 1
+    path = tmp_path / "shot.usda"
+    path.write_text(text.replace(authored, unknown))
+    with pytest.raises(UsdkslInputError) as raised:
+        load_shot(path)
+    line = str(raised.value)
+    assert line.startswith(f"{path}: {prim}: ") and "with a type USD does not know" in line and "\n" not in line

@@ -37,6 +37,7 @@ from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import __version__
 from .collision import METHODS, default_threads, find_contacts
 from .last_contact import last_contacts
+from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
 
 TimeRange = Tuple[float, float]
 #: What write_files publishes at a target: text, bytes, or None (remove the file if there is one).
@@ -110,9 +111,13 @@ class CheckOptions:
     #: Threads of the core (None: every core this process may use). Does not change any result, so
     #: not in settings().
     threads: Optional[int] = None
+    #: Memory the check may use: a size ("8G", bytes), "off", or None for what the machine has
+    #: (usdksl.checking.memory_budget). Does not change any result, so not in settings().
+    memory_limit: Optional[str] = None
 
     def validate(self) -> None:
         """Raise UsdkslUsageError (exit 2) on a value the check cannot use."""
+        parse_memory_size(self.memory_limit)
         if self.method not in METHODS:
             raise UsdkslUsageError(f"--method must be one of {', '.join(METHODS)}, got {self.method!r}")
         if not self.tolerance > 0:
@@ -305,7 +310,11 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[[st
     and, under ``options.strict``, when no mesh pair is left to check."""
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
+    size = scan_shot(shot, options.time_range, predicate)   # its open stage makes the loader's open free
+    check_memory(size, options.method, memory_limit(options.memory_limit), file=name,
+                 threads=options.threads or default_threads())
     segments = load_segments(shot, options.time_range, predicate, say, name, options.strict)
+    del size
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
     unchecked = [item for _, segment in segments for item in segment.unchecked]

@@ -48,10 +48,47 @@ IncludeFilter = Union[None, Callable[[str], bool], str, Sequence[str]]
 _PXR_NAMESPACE = re.compile(r"pxrInternal_v\w*?__pxrReserved__::")
 
 
-def _pxr_error_text(error: Exception) -> str:
-    """The diagnostics of a Tf.ErrorException on one line, without C++ function/file noise."""
+#: Stands for a diagnostic USD could not hand to Python: its text is not UTF-8 (the text parser quotes
+#: the bytes it stopped at).
+NOT_UTF8_DIAGNOSTIC = "bytes that are not UTF-8 text"
+
+
+def _diagnostic_entries(error: Exception) -> List[str]:
+    try:
+        return re.split(r"\n\s*Error in ", str(error))
+    except UnicodeDecodeError:   # one diagnostic quotes bytes that are not UTF-8: keep the others
+        entries = []
+        for diagnostic in getattr(error, "args", ()):
+            try:
+                entries.append(str(diagnostic))
+            except UnicodeDecodeError:
+                entries.append(NOT_UTF8_DIAGNOSTIC)
+        return entries
+
+
+def first_non_utf8_line(file: str) -> Optional[int]:
+    """The line (1-based) of the first byte sequence of ``file`` that is not UTF-8; None when all is."""
+    try:
+        with open(file, "rb") as handle:
+            data = handle.read()
+    except OSError:
+        return None
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        return data.count(b"\n", 0, error.start) + 1
+    return None
+
+
+def _pxr_error_text(error: Exception, file: Optional[str] = None) -> str:
+    """The diagnostics of a Tf.ErrorException on one line, without C++ function/file noise. A diagnostic
+    whose text is not UTF-8 is named as such, with the line of ``file`` where such bytes first occur."""
     messages = []
-    for entry in re.split(r"\n\s*Error in ", str(error)):
+    for entry in _diagnostic_entries(error):
+        if entry == NOT_UTF8_DIAGNOSTIC and file:
+            line = first_non_utf8_line(file)
+            messages.append(f"{NOT_UTF8_DIAGNOSTIC}" + (f" (first at line {line})" if line else ""))
+            continue
         _, separator, message = entry.partition(" : '")
         text = message.strip().rstrip("'") if separator else entry
         text = " ".join(_PXR_NAMESPACE.sub("", text).split())
@@ -78,7 +115,7 @@ def open_stage(path: Union[str, os.PathLike]) -> Usd.Stage:
     try:
         stage = Usd.Stage.Open(file, Usd.Stage.LoadAll)
     except Tf.ErrorException as error:
-        raise UsdkslInputError(f"cannot open as USD: {_pxr_error_text(error)}", file=file) from None
+        raise UsdkslInputError(f"cannot open as USD: {_pxr_error_text(error, file)}", file=file) from None
     if stage is None:
         raise UsdkslInputError("cannot open as USD", file=file)
     return stage
@@ -200,9 +237,18 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
     values evaluated exactly at a and b. ``include``: see :func:`mesh_prims`.
     Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input.
     """
+    file = os.fspath(path)
+    try:
+        return _load_shot(file, time_range, include)
+    except UsdkslInputError as error:   # readers below the loader know the prim but not the file
+        if error.file:
+            raise
+        raise type(error)(error.message, file=file, prim=error.prim, time=error.time) from None
+
+
+def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: IncludeFilter) -> Shot:
     from . import layer_rates   # it builds on this module
 
-    file = os.fspath(path)
     time_range = _check_time_range(file, time_range)
     stage = open_stage(file)
     metadata = stage_metadata(stage)

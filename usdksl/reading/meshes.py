@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
-from pxr import Usd, UsdGeom
+from pxr import Sdf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError
 from .triangulate import fan_triangulate
@@ -121,6 +121,7 @@ def xform_sample_times(prim: Usd.Prim) -> List[float]:
     while current and not current.IsPseudoRoot():
         xformable = UsdGeom.Xformable(current)
         if xformable:
+            authored_value(xformable.GetXformOpOrderAttr(), None)   # unreadable: USD would drop the transform
             times.update(xformable.GetTimeSamples())
             if xformable.GetResetXformStack():
                 break
@@ -152,15 +153,27 @@ def _topology_sample_times(mesh: UsdGeom.Mesh) -> List[float]:
     return sorted(times)
 
 
+def authored_value(attribute: Usd.Attribute, time: Optional[float], file: Optional[str] = None):
+    """``attribute.Get(time)`` (time None: a uniform attribute's value), or a one-line UsdkslInputError
+    when the file gives it a type USD does not know (``point9f[] points``): USD then hands back an opaque
+    value instead of refusing the file. The error names no file when ``file`` is None; load_shot adds it."""
+    value = attribute.Get() if time is None else attribute.Get(time)
+    if isinstance(value, Sdf.UnregisteredValue):
+        raise UsdkslInputError(f"{attribute.GetName()} is authored with a type USD does not know, not as "
+                               f"{attribute.GetTypeName()}", file=file, prim=str(attribute.GetPrim().GetPath()),
+                               time=time)
+    return value
+
+
 def _array(attribute: Usd.Attribute, time: float, dtype) -> np.ndarray:
-    value = attribute.Get(time)
+    value = authored_value(attribute, time)
     if value is None:
         return np.zeros(0, dtype=dtype)
     return np.asarray(value, dtype=dtype).reshape(-1)
 
 
 def _points_count(attribute: Usd.Attribute, time: float) -> int:
-    value = attribute.Get(time)
+    value = authored_value(attribute, time)
     return 0 if value is None else len(value)
 
 
@@ -283,7 +296,7 @@ def check_finite_points(file: str, path: str, time: float, points: np.ndarray) -
 
 
 def _read_points(file: str, path: str, attribute: Usd.Attribute, time: float) -> np.ndarray:
-    value = attribute.Get(time)
+    value = authored_value(attribute, time, file)
     if value is None:
         raise UsdkslEmptyMeshError("empty mesh: points have no value", file=file, prim=path, time=time)
     return np.asarray(value).reshape(-1, 3)   # point3f as authored; a double type keeps its precision

@@ -1,0 +1,225 @@
+"""Memory a check needs, known before it starts, against the memory the machine has: refuse rather than swap.
+
+:func:`scan_shot` counts what a check will hold without loading any motion: per mesh its vertices, its
+triangles and its time samples in the checked range (one sample of points and the face counts are
+read; the stage it opens stays open, so the loader that follows reuses its layers for free).
+:func:`estimated_bytes` turns the counts into bytes with a model calibrated against measured peak RSS
+(``python benchmarks/memory_model.py`` measures and fits it again):
+
+- per vertex-sample (one vertex at one time sample): the loader's float64 points, the core's copy,
+  the merged and the raw flightplans;
+- per triangle and thread (not per sample: the trees and lists exist once per time window, and each
+  thread checks one window at a time): the kinetic trees, separation lists and event queue of KSL,
+  the swept-volume trees of the other methods;
+- a fixed part: modules imported during the check, the stage, the reports.
+
+Contacts cost on top (reports, override layer; about a kilobyte per contacting triangle pair), which
+no scan can know: shots in heavy self contact can need more than the estimate.
+
+:func:`available_bytes` is MemAvailable of /proc/meminfo, or the cgroup's limit minus its usage when
+that is lower (a container, a farm slot). ``--memory-limit`` or the environment variable
+:data:`MEMORY_LIMIT_VARIABLE` override it (``off`` skips the check). :func:`check_memory` raises a
+one-line UsdkslUsageError (exit 2) saying what is needed, what there is and what to do.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from dataclasses import dataclass, field
+from typing import Callable, Optional, Tuple, Union
+
+import numpy as np
+
+from ..errors import UsdkslUsageError
+
+#: Environment variable with the memory a check may use (same values as ``--memory-limit``).
+MEMORY_LIMIT_VARIABLE = "USDKSL_MEMORY_LIMIT"
+#: ``--memory-limit`` / MEMORY_LIMIT_VARIABLE value that turns the check off.
+NO_LIMIT = "off"
+
+#: The model, per method: bytes per vertex-sample, and per triangle and thread (each thread checks a
+#: time window with trees and lists of its own), fitted on tablecloth shots (2k to 4k faces, 11 to 51
+#: samples, 1 and 2 threads; benchmarks/memory_model.py --quick printed 27-67 B and 7,790-8,216 B for KSL, 113 B
+#: and 221 B for swept, and a fixed 4.7 to 13.5 MiB), rounded up. Discrete and brute hold what swept holds.
+BYTES_PER_VERTEX_SAMPLE = {"ksl": 85, "swept": 120, "discrete": 120, "brute": 120}
+BYTES_PER_TRIANGLE = {"ksl": 8000, "swept": 450, "discrete": 450, "brute": 450}
+FIXED_BYTES = 12 * 2 ** 20
+
+_SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*$", re.IGNORECASE)
+_UNITS = {"": 1, "k": 2 ** 10, "m": 2 ** 20, "g": 2 ** 30, "t": 2 ** 40}
+
+TimeRange = Tuple[float, float]
+
+
+@dataclass
+class ShotSize:
+    """What a check holds, counted before loading: meshes, vertices x samples, triangles; the checked
+    span in time codes (None when the shot has no samples); ``stage`` kept open for the loader."""
+
+    meshes: int = 0
+    vertex_samples: int = 0
+    triangles: int = 0
+    span: Optional[TimeRange] = None
+    stage: object = field(default=None, repr=False)
+
+
+def parse_memory_size(text: Union[str, int, None]) -> Optional[int]:
+    """Bytes from ``"8G"``, ``"512M"``, ``"1073741824"``, ``"1.5GiB"``; None for ``off``. Raises
+    UsdkslUsageError on anything else."""
+    if text is None or isinstance(text, int):
+        return text
+    if text.strip().lower() == NO_LIMIT:
+        return None
+    match = _SIZE.match(text)
+    if not match or float(match.group(1)) <= 0:
+        raise UsdkslUsageError(f"memory limit must be a size like 8G, 512M or 1073741824 bytes, or "
+                               f"'{NO_LIMIT}'; got {text!r}")
+    return int(float(match.group(1)) * _UNITS[match.group(2).lower()])
+
+
+def format_bytes(count: float) -> str:
+    for unit, scale in (("TiB", 2 ** 40), ("GiB", 2 ** 30), ("MiB", 2 ** 20)):
+        if count >= scale:
+            return f"{count / scale:.1f} {unit}"
+    return f"{count / 2 ** 10:.0f} KiB"
+
+
+# --------------------------------------------------------------------------- what there is
+
+def _read_int(path: str) -> Optional[int]:
+    try:
+        with open(path) as handle:
+            text = handle.read().strip()
+    except OSError:
+        return None
+    return int(text) if text.isdigit() else None   # cgroup v2 says "max" for no limit
+
+
+def _meminfo_available(path: str = "/proc/meminfo") -> Optional[int]:
+    try:
+        with open(path) as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def _cgroup_room(root: str = "/sys/fs/cgroup") -> Optional[int]:
+    """The cgroup's limit minus its usage (v2, then v1); None without a limit."""
+    for limit_file, usage_file in (("memory.max", "memory.current"),
+                                   ("memory/memory.limit_in_bytes", "memory/memory.usage_in_bytes")):
+        limit = _read_int(os.path.join(root, limit_file))
+        usage = _read_int(os.path.join(root, usage_file))
+        if limit is not None and usage is not None and limit < 2 ** 60:   # v1 writes a huge number for none
+            return max(limit - usage, 0)
+    return None
+
+
+def available_bytes() -> Optional[int]:
+    """Memory this process can still take: MemAvailable, or the cgroup's room when lower; None when
+    neither can be read (the check is then skipped)."""
+    found = [value for value in (_meminfo_available(), _cgroup_room()) if value is not None]
+    return min(found) if found else None
+
+
+def memory_limit(option: Union[str, int, None] = None,
+                 environ=None, detect: Callable[[], Optional[int]] = available_bytes) -> Optional[int]:
+    """The bytes a check may use: ``option`` (``--memory-limit``), else MEMORY_LIMIT_VARIABLE, else what
+    the machine has; None when the check is off or nothing can be read."""
+    environ = os.environ if environ is None else environ
+    if option is not None:
+        return parse_memory_size(option)
+    if environ.get(MEMORY_LIMIT_VARIABLE):
+        return parse_memory_size(environ[MEMORY_LIMIT_VARIABLE])
+    return detect()
+
+
+# --------------------------------------------------------------------------- what is needed
+
+def scan_shot(path: str, time_range: Optional[TimeRange] = None, include=None) -> ShotSize:
+    """Count the meshes ``load_shot(path, time_range, include)`` would load. Reads one sample of points
+    and the face counts of each mesh; whatever cannot be read is left out of the count (the loader then
+    reports it). Raises UsdkslInputError only when the file cannot be opened."""
+    from pxr import UsdGeom
+
+    from ..reading.loader import mesh_prims, mesh_sample_times, open_stage
+
+    stage = open_stage(path)
+    size = ShotSize(stage=stage)
+    try:
+        prims = mesh_prims(stage, include)
+    except Exception:   # noqa: BLE001  (an estimate: the loader reports what is wrong)
+        return size
+    starts, ends = [], []
+    for prim in prims:
+        try:
+            mesh = UsdGeom.Mesh(prim)
+            times = mesh_sample_times(prim)
+            first = float(times[0]) if times.size else (time_range[0] if time_range else 0.0)
+            points = mesh.GetPointsAttr().Get(first)
+            # a value USD could not parse as its type comes back as an opaque object: counted as nothing
+            point_count = len(points) if points is not None else 0
+            counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(first) or [], dtype=np.int64)
+        except Exception:   # noqa: BLE001  (left out of the count; the loader reports it)
+            continue
+        samples = _samples_in(times, time_range)
+        if samples:
+            starts.append(max(float(times[0]), time_range[0]) if time_range else float(times[0]))
+            ends.append(min(float(times[-1]), time_range[1]) if time_range else float(times[-1]))
+        size.meshes += 1
+        size.vertex_samples += max(samples, 1) * point_count
+        size.triangles += int(np.clip(counts - 2, 0, None).sum())
+    if time_range is not None:
+        size.span = time_range
+    elif starts:
+        size.span = (min(starts), max(ends))
+    return size
+
+
+def _samples_in(times: np.ndarray, time_range: Optional[TimeRange]) -> int:
+    """Samples the loader keeps: those strictly inside the range plus both ends (usdksl.reading.loader)."""
+    if time_range is None or times.size == 0:
+        return int(times.size)
+    inside = int(np.count_nonzero((times > time_range[0]) & (times < time_range[1])))
+    return inside + (1 if time_range[0] == time_range[1] else 2)
+
+
+def estimated_bytes(size: ShotSize, method: str = "ksl", threads: int = 1) -> int:
+    """Peak memory the check of ``size`` on ``threads`` threads adds to the process (the model above):
+    each thread checks one time window at a time with trees and lists of its own."""
+    return int(FIXED_BYTES + BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
+               * size.vertex_samples
+               + BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles
+               * max(int(threads), 1))
+
+
+def check_memory(size: ShotSize, method: str, limit: Optional[int], file: Optional[str] = None,
+                 threads: int = 1) -> int:
+    """Raise UsdkslUsageError (exit 2) when the check of ``size`` on ``threads`` threads needs more than
+    ``limit`` bytes (None: no check). The line says how much is needed and there is, and how to split the
+    work. Returns the estimate."""
+    needed = estimated_bytes(size, method, threads)
+    if limit is None or needed <= limit:
+        return needed
+    what = (f"needs about {format_bytes(needed)} of memory to check ({size.meshes} meshes, "
+            f"{size.vertex_samples:,} vertex samples, {size.triangles:,} triangles) but "
+            f"{format_bytes(limit)} is available")
+    fixed = estimated_bytes(ShotSize(meshes=size.meshes, triangles=size.triangles), method, threads)
+    if fixed >= limit or size.span is None or size.span[1] <= size.span[0]:
+        advice = "check fewer meshes at a time with --prims/--exclude"
+    else:
+        chunks = math.ceil((needed - fixed) / (limit - fixed) * 1.25)
+        start, end = size.span
+        step = (end - start) / chunks
+        example = ", ".join(f"{start + i * step:g} {start + (i + 1) * step:g}" for i in range(min(chunks, 3)))
+        advice = (f"check it in about {chunks} parts with --time-range A B ({example}"
+                  f"{', ...' if chunks > 3 else ''}; farm chunks join with usdksl merge), or fewer meshes "
+                  f"with --prims/--exclude")
+    if threads > 1 and estimated_bytes(size, method, 1) <= limit:
+        advice = f"use --threads 1 (it fits on one thread), or {advice}"
+    raise UsdkslUsageError(f"{what}; {advice} (--memory-limit or {MEMORY_LIMIT_VARIABLE} overrides "
+                           f"the available figure)", file=file)
