@@ -116,3 +116,22 @@ def test_kinetic_lists_equal_brute_force_bit_for_bit_on_per_frame_curves(tmp_pat
         answer = contact_columns(find_contacts(shot.meshes, plan.pairs, method=method, thickness=thickness,
                                                threads=threads))
         assert answer == brute, (method, threads)
+
+
+@pytest.mark.parametrize("dash_frame", [7, 18, 29])
+def test_a_mesh_resting_far_away_that_dashes_in_one_frame_is_not_missed(dash_frame):
+    # The lists skip looking at boxes that cannot meet before their meshes have travelled their gap,
+    # counted with each mesh's largest motion per frame: a sheet that rests 3 units away for many
+    # frames and then crosses the other in a single frame must still be found, at brute force's time.
+    sys.path.insert(0, str(REPO_ROOT / "tests"))
+    from builders import animated, triangle_grid
+
+    verts, tris = triangle_grid(4, 4)
+    times = np.arange(0.0, 36.0)
+    still = animated(times, [verts + [0.0, 0.0, 0.1 * np.sin(0.3 * t)] for t in times], tris)
+    frames = [verts + [0.05, 0.03, 3.0 if t <= dash_frame else -0.5] for t in times]
+    dasher = animated(times, frames, tris)
+    meshes, pairs = [still, dasher], [(0, 0), (1, 1), (0, 1)]
+    brute = contact_columns(find_contacts(meshes, pairs, method="brute"))
+    assert brute[0] and min(brute[0]) > dash_frame
+    assert contact_columns(find_contacts(meshes, pairs, method="ksl", threads=1)) == brute

@@ -132,16 +132,14 @@ int KineticSeparationLists::children_of(const List& list, int32_t a, int32_t b, 
 
 // ------------------------------------------------------------------ geometry
 
-double KineticSeparationLists::margin_of(const List& list, int32_t a, int32_t b) const {
-    return margin_[&list - lists_.data()] + trees_[list.mesh_a]->box_margin(a) + trees_[list.mesh_b]->box_margin(b);
-}
+double KineticSeparationLists::margin_of(const List& list) const { return margin_[&list - lists_.data()]; }
 
 bool KineticSeparationLists::meet(const List& list, int32_t a, int32_t b) {
     if (list.self && a == b) return true;
     ++counters_.bv_tests;
     const StepBox& ba = trees_[list.mesh_a]->box(a);
     const StepBox& bb = trees_[list.mesh_b]->box(b);
-    const double margin = margin_of(list, a, b);
+    const double margin = margin_of(list);
     // Each of the six gaps (max(a) - min(b) and max(b) - min(a) per axis,
     // grown by the margin) is linear over the step; the boxes meet while all
     // are >= 0, on an interval of step fractions.
@@ -169,7 +167,7 @@ bool KineticSeparationLists::apart(const List& list, int32_t a, int32_t b, doubl
     const StepBoxTree& tb = *trees_[list.mesh_b];
     const StepBox& ba = ta.box(a);
     const StepBox& bb = tb.box(b);
-    const double slack = fraction * std::min(ta.extent(a), tb.extent(b)) - margin_of(list, a, b);
+    const double slack = fraction * std::min(ta.extent(a), tb.extent(b)) - margin_of(list);
     for (int axis = 0; axis < 3; ++axis) {
         for (int side = 0; side < 2; ++side) {
             const StepBox& upper = side == 0 ? ba : bb;
@@ -181,6 +179,69 @@ bool KineticSeparationLists::apart(const List& list, int32_t a, int32_t b, doubl
         }
     }
     return false;
+}
+
+void KineticSeparationLists::measure_travel() {
+    const size_t steps = times_.size() - 1;
+    travel_.assign(trees_.size(), {});
+    for (size_t m = 0; m < trees_.size(); ++m) {
+        if (!trees_[m]) continue;
+        // Largest displacement along any axis of any vertex, per step: a
+        // vertex moves linearly on each flightplan segment, so a step inside
+        // a segment takes its share of the segment's displacement.
+        std::vector<double> per_step(steps, 0.0);
+        const Flightplans& plans = scene_.plans[m];
+        for (int32_t v = 0; v < plans.vertex_count(); ++v) {
+            for (int64_t k = plans.key_begin(v); k + 1 < plans.key_end(v); ++k) {
+                const double t0 = plans.key_time(k), t1 = plans.key_time(k + 1);
+                double moved = 0.0;
+                for (int axis = 0; axis < 3; ++axis) {
+                    moved = std::max(moved, std::abs(plans.key_coord(k + 1, axis) - plans.key_coord(k, axis)));
+                }
+                if (moved == 0.0) continue;
+                const double speed = moved / (t1 - t0);
+                size_t i = static_cast<size_t>(std::upper_bound(times_.begin(), times_.end(), t0) - times_.begin());
+                i = i == 0 ? 0 : i - 1;
+                for (; i < steps && times_[i] < t1; ++i) {
+                    per_step[i] = std::max(per_step[i], speed * (times_[i + 1] - times_[i]));
+                }
+            }
+        }
+        std::vector<double>& travel = travel_[m];
+        travel.assign(steps + 1, 0.0);
+        for (size_t i = 0; i < steps; ++i) travel[i + 1] = travel[i] + per_step[i] * (1.0 + TRAVEL_ROUNDING);
+    }
+}
+
+int64_t KineticSeparationLists::quiet_until(const List& list, int32_t a, int32_t b) const {
+    const StepBox& ba = trees_[list.mesh_a]->box(a);
+    const StepBox& bb = trees_[list.mesh_b]->box(b);
+    const double margin = margin_of(list);
+    double gap = 0.0;  // widest separation along one axis at the step's end
+    for (int axis = 0; axis < 3; ++axis) {
+        gap = std::max({gap, bb.lo[1][axis] - ba.hi[1][axis] - margin, ba.lo[1][axis] - bb.hi[1][axis] - margin});
+    }
+    const int64_t next = step_index_ + 1, steps = static_cast<int64_t>(times_.size()) - 1;
+    if (!(gap > 0.0) || next >= steps) return next;
+    if (travel_[list.mesh_a][next + 1] - travel_[list.mesh_a][next] + travel_[list.mesh_b][next + 1] -
+            travel_[list.mesh_b][next] >= gap) {
+        return next;  // most often the next step may close the gap already
+    }
+    // Each box side moves no more than its mesh's vertices: the gap cannot
+    // close before the two meshes' travel since this step's end exceeds it.
+    const std::vector<double>& ta = travel_[list.mesh_a];
+    const std::vector<double>& tb = travel_[list.mesh_b];
+    const auto closes_by = [&](int64_t end) {  // travel over steps next..end-1
+        return (ta[end] - ta[next]) + (tb[end] - tb[next]) >= gap;
+    };
+    int64_t low = next, high = steps;  // steps next..low-1 are safe; find the first end that closes
+    if (!closes_by(high)) return steps;
+    while (low + 1 < high) {
+        const int64_t middle = low + (high - low) / 2;
+        if (closes_by(middle)) high = middle;
+        else low = middle;
+    }
+    return low;
 }
 
 // --------------------------------------------------------- front maintenance
@@ -347,7 +408,9 @@ void KineticSeparationLists::update(int32_t id) {
     const List& list = lists_[e.list];
     const int32_t list_id = e.list;
     if (e.overlapping_leaf) {
-        if (e.permanent) return;
+        // Covered ahead already: whether the leaves parted is asked when
+        // the covered steps run out (covering longer is never wrong).
+        if (e.permanent || e.tested_until >= step_end_) return;
         if (apart(list, e.a, e.b, LEAF_HYSTERESIS)) {
             ++counters_.leaves_do_not_overlap_events;
             e.overlapping_leaf = false;
@@ -372,7 +435,10 @@ void KineticSeparationLists::update(int32_t id) {
         create_entry(list_id, top.a, top.b, has_up ? &up : nullptr, false);
         return;
     }
-    if (!meet(list, e.a, e.b)) return;
+    if (!meet(list, e.a, e.b)) {
+        e.quiet_until = quiet_until(list, e.a, e.b);
+        return;
+    }
     ++counters_.bv_overlap_events;
     if (both_leaves(list, e.a, e.b)) {
         e.overlapping_leaf = true;
@@ -390,6 +456,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
     for (size_t m = 0; m < trees_.size(); ++m) used[m] = trees_[m] != nullptr;
     times_ = breakpoint_times(scene_, used, t_begin_, t_end_);
     if (times_.size() == 1) times_.push_back(times_.front());  // an empty range: its one instant
+    measure_travel();
     for (size_t k = 0; k + 1 < times_.size(); ++k) {
         step_index_ = static_cast<int64_t>(k);
         step_begin_ = times_[k];
@@ -418,7 +485,8 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
         } else {
             // Entries created during this step are up to date already.
             for (int32_t id = 0; id < static_cast<int32_t>(entries_.size()); ++id) {
-                if (entries_[id].alive && entries_[id].step < step_index_) update(id);
+                const Entry& e = entries_[id];
+                if (e.alive && e.step < step_index_ && e.quiet_until <= step_index_) update(id);
             }
         }
         ++counters_.bv_change_events;

@@ -88,6 +88,14 @@ void StepBoxTree::fit(double t0, double t1) {
         }
         extent_[node] = std::max({box.hi[0][0] - box.lo[0][0], box.hi[0][1] - box.lo[0][1],
                                   box.hi[0][2] - box.lo[0][2]});
+        // Grown by the rounding margin here, so overlap tests need only the pair's contact distance.
+        const double margin = box_margin_[node];
+        for (int end = 0; end < 2; ++end) {
+            for (int axis = 0; axis < 3; ++axis) {
+                box.lo[end][axis] -= margin;
+                box.hi[end][axis] += margin;
+            }
+        }
     }
 }
 

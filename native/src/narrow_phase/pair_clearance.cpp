@@ -44,13 +44,19 @@ double largest_coordinate(const std::array<Vec3, 3>& a, const std::array<Vec3, 3
 
 void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
                           const std::array<Vec3, 3>& b, bool same_mesh, double contact_distance, double tolerance) {
-    for (int i = 0; i < 6; ++i) relative_start_[i] = (i < 3 ? a[i] : b[i - 3]) - a[0];
+    ids_a_ = ids_a;
+    ids_b_ = ids_b;
+    same_mesh_ = same_mesh;
+    for (int i = 0; i < 3; ++i) {
+        start_[i] = a[i];
+        start_[3 + i] = b[i];
+    }
     diameter_ = box_diagonal(a, b);
     contact_distance_ = PAIR_CLEARANCE_CONTACT_REACH * contact_distance;
     size_fraction_ = std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
     magnitude_ = largest_coordinate(a, b);
     drift_ = 0.0;
-    drift_holds_ = true;
+    distance_known_ = false;
     plane_holds_ = false;
     bool shared = false;
     for (int32_t v : ids_a) shared = shared || (same_mesh && holds_vertex(ids_b, v));
@@ -71,22 +77,28 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
         }
         plane_holds_ = best > plane_reach(a, b);
     }
+}
+
+void PairClearance::measure_distance() {
+    const Vec3* a = &start_[0];
+    const Vec3* b = &start_[3];
     double squared = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 3; ++i) {
-        if (!(same_mesh && holds_vertex(ids_b, ids_a[i])))
+        if (!(same_mesh_ && holds_vertex(ids_b_, ids_a_[i])))
             squared = std::min(squared, point_triangle_distance_squared(a[i], b[0], b[1], b[2]));
-        if (!(same_mesh && holds_vertex(ids_a, ids_b[i])))
+        if (!(same_mesh_ && holds_vertex(ids_a_, ids_b_[i])))
             squared = std::min(squared, point_triangle_distance_squared(b[i], a[0], a[1], a[2]));
     }
     for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3;
         for (int j = 0; j < 3; ++j) {
             const int j1 = (j + 1) % 3;
-            if (same_mesh && edges_share_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;
+            if (same_mesh_ && edges_share_vertex(ids_a_[i], ids_a_[i1], ids_b_[j], ids_b_[j1])) continue;
             squared = std::min(squared, segment_segment_distance_squared(a[i], a[i1], b[j], b[j1]));
         }
     }
     distance_ = std::sqrt(squared);
+    distance_known_ = true;
 }
 
 double PairClearance::plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {
@@ -95,15 +107,18 @@ double PairClearance::plane_reach(const std::array<Vec3, 3>& a, const std::array
 
 bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
     double drift_a = 0.0, drift_b = 0.0;
-    for (int i = 1; i < 3; ++i) drift_a = std::max(drift_a, ((a[i] - a[0]) - relative_start_[i]).norm());
-    for (int j = 0; j < 3; ++j) drift_b = std::max(drift_b, ((b[j] - a[0]) - relative_start_[3 + j]).norm());
+    for (int i = 1; i < 3; ++i) drift_a = std::max(drift_a, ((a[i] - a[0]) - (start_[i] - start_[0])).norm());
+    for (int j = 0; j < 3; ++j) drift_b = std::max(drift_b, ((b[j] - a[0]) - (start_[3 + j] - start_[0])).norm());
     drift_ = std::max(drift_, drift_a + drift_b);
     magnitude_ = std::max(magnitude_, largest_coordinate(a, b));
+    plane_holds_ = plane_holds_ && plane_gap(normal_, a, b) > plane_reach(a, b);
+    if (plane_holds_) return true;
+    // The drift proof: distance_ - drift_ > reach only weakens as drift_ and
+    // magnitude_ grow, so asking it now answers for every step since the start.
+    if (!distance_known_) measure_distance();
     const double reach = contact_distance_ + size_fraction_ * (diameter_ + 2.0 * drift_) +
                          PAIR_CLEARANCE_ROUNDING * magnitude_;
-    drift_holds_ = drift_holds_ && distance_ - drift_ > reach;
-    plane_holds_ = plane_holds_ && plane_gap(normal_, a, b) > plane_reach(a, b);
-    return drift_holds_ || plane_holds_;
+    return distance_ - drift_ > reach;
 }
 
 } // namespace usdksl

@@ -1,7 +1,7 @@
 /// @file step_box_tree_test.cpp
 /// @brief Throughout every step between consecutive breakpoints, each moving
-///        box of the step box tree encloses the vertices under it (up to its
-///        rounding margin), probed at many times inside each step.
+///        box of the step box tree encloses the vertices under it, probed at
+///        many times inside each step.
 
 #include "animations.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
@@ -34,8 +34,8 @@ std::vector<std::vector<int32_t>> vertices_under(const BvhTopology& topo, const 
 }
 
 /// Largest amount (scene units) by which a vertex sticks out of its node's
-/// box at time code t, step fraction s, minus the node's margin: > 0 means a
-/// box too small.
+/// box (grown by its rounding margin) at time code t, step fraction s: > 0
+/// means a box too small.
 double worst_overhang(const StepBoxTree& tree, const Flightplans& plans,
                       const std::vector<std::vector<int32_t>>& under, double t, double s) {
     double worst = -std::numeric_limits<double>::infinity();
@@ -46,7 +46,7 @@ double worst_overhang(const StepBoxTree& tree, const Flightplans& plans,
             const double hi = box.hi[0][axis] + s * (box.hi[1][axis] - box.hi[0][axis]);
             for (int32_t v : under[node]) {
                 const double x = plans.coord(v, axis, t);
-                worst = std::max({worst, lo - x - tree.box_margin(node), x - hi - tree.box_margin(node)});
+                worst = std::max({worst, lo - x, x - hi});
             }
         }
     }

@@ -39,6 +39,10 @@ constexpr int64_t FRONT_COARSEN_EVERY_STEPS = 4;
 ///        clears them: one call per step would cost more than the steps.
 constexpr int64_t LEAF_COVER_AHEAD_STEPS = 7;
 
+/// @brief Relative allowance by which the per-step travel bounds are
+///        inflated: covers the rounding of the displacements and their sums.
+constexpr double TRAVEL_ROUNDING = 1e-9;
+
 /// @brief All separation lists of one check, sharing one tree per mesh. Each
 ///        list entry is a BVTT node: a pair of tree nodes whose boxes do not
 ///        meet (with the father it hangs from), or an overlapping pair of
@@ -76,6 +80,7 @@ private:
         int64_t step = -1;           // step in which the entry was created or last brought up to date
         double tested_until = -1e300;  // end of the last flightplan step the narrow phase covered
         int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1
+        int64_t quiet_until = 0;     // boxes apart: no step before this one can bring them together
     };
     struct NodePair { int32_t a, b; };
 
@@ -86,14 +91,20 @@ private:
     bool both_leaves(const List& list, int32_t a, int32_t b) const;
 
     // Geometry of the current step
-    /// Scene units two boxes grow by before they count as overlapping: the
-    /// pair's contact distance plus each box's rounding margin.
-    double margin_of(const List& list, int32_t a, int32_t b) const;
+    /// Scene units two boxes (already grown by their rounding margins) grow
+    /// by before they count as overlapping: the list's contact distance.
+    double margin_of(const List& list) const;
     /// True when the boxes of (a, b) meet at some time of the current step.
     bool meet(const List& list, int32_t a, int32_t b);
     /// True when the boxes of (a, b) stay apart by more than `fraction` of
     /// the smaller one's extent for the whole current step.
     bool apart(const List& list, int32_t a, int32_t b, double fraction) const;
+    /// First step after the current one at which the boxes of (a, b), apart
+    /// at the current step's end, may meet: their gap then, against the most
+    /// any vertex of their meshes can move per step (travel_).
+    int64_t quiet_until(const List& list, int32_t a, int32_t b) const;
+    /// Fills travel_ for the steps in times_.
+    void measure_travel();
 
     // Front maintenance
     int32_t create_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, bool overlapping_leaf);
@@ -121,6 +132,9 @@ private:
     Counters& counters_;
     double t_begin_, t_end_;
     std::vector<double> times_;                 // breakpoint times: the steps' ends (time codes)
+    /// Per used mesh: travel_[m][k] bounds (scene units) how far any of its
+    /// vertices moves along any axis during steps 0..k-1 together.
+    std::vector<std::vector<double>> travel_;
     double step_begin_ = 0.0, step_end_ = 0.0;  // current step (time codes)
     int64_t step_index_ = 0;
     bool initializing_ = false;

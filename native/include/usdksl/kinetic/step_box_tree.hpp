@@ -17,7 +17,8 @@ namespace usdksl {
 ///        box sides inside a step rounds by a few ulps.
 constexpr double STEP_BOX_ROUNDING_PER_LEVEL = 1e-12;
 
-/// @brief A box at both ends of a step (scene units). Between the ends each
+/// @brief A box at both ends of a step (scene units), grown by its node's
+///        rounding margin. Between the ends each
 ///        side moves linearly (`lo` and `hi` interpolated with the same
 ///        fraction of the step), which encloses the node's vertices
 ///        throughout: they move linearly inside a step, and the largest (or
@@ -43,11 +44,12 @@ public:
 
     const StepBox& box(int32_t node) const { return boxes_[node]; }
 
-    /// @brief Scene units by which the vertices under `node` may stick out of
-    ///        its box through rounding; local to those vertices' magnitudes.
+    /// @brief Scene units by which every box is grown beyond its vertices to
+    ///        cover rounding; local to the magnitudes of the vertices under it.
     double box_margin(int32_t node) const { return box_margin_[node]; }
 
-    /// @brief Largest side of the node's box at the step's begin (scene units).
+    /// @brief Largest side of the node's vertices' box at the step's begin
+    ///        (scene units, before the rounding margin).
     double extent(int32_t node) const { return extent_[node]; }
 
 private:

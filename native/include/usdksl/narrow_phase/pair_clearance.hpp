@@ -70,14 +70,20 @@ private:
     /// size and rounding, at positions a and b.
     double plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const;
 
-    std::array<Vec3, 6> relative_start_;  // vertices minus A's first vertex at the start
+    /// Smallest tested primitive distance at the start, measured only when
+    /// the plane no longer clears the pair (most pairs the plane clears never need it).
+    void measure_distance();
+
+    Triangle ids_a_{}, ids_b_{};
+    bool same_mesh_ = false;
+    std::array<Vec3, 6> start_;           // A's then B's vertices at the start
+    bool distance_known_ = false;
     double distance_ = 0.0;               // smallest tested primitive distance at the start
     double diameter_ = 0.0;               // at least that of the six vertices at the start
     double contact_distance_ = 0.0;       // scene units, times PAIR_CLEARANCE_CONTACT_REACH
     double size_fraction_ = 0.0;
     double magnitude_ = 0.0;              // largest absolute coordinate seen
     double drift_ = 0.0;
-    bool drift_holds_ = false;
     Vec3 normal_ = Vec3::Zero();  // unit; B lies above A along it while plane_holds_
     bool plane_holds_ = false;
 };
