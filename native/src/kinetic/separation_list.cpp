@@ -36,8 +36,10 @@ std::vector<double> breakpoint_times(const Scene& scene, const std::vector<bool>
         const Flightplans& plans = scene.plans[m];
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
             for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
-                const auto it = std::lower_bound(samples.begin(), samples.end(), plans.key_time(k));
-                if (it != samples.end()) kept[static_cast<size_t>(it - samples.begin())] = true;
+                const double t = plans.key_time(k);
+                const auto it = std::lower_bound(samples.begin(), samples.end(), t);
+                if (it != samples.end() && *it == t) kept[static_cast<size_t>(it - samples.begin())] = true;
+                else if (t > t_begin && t < t_end) times.push_back(t);
             }
         }
         for (size_t i = 0; i < samples.size(); ++i) {
