@@ -58,7 +58,8 @@ def shots(tmp_path_factory):
 @pytest.mark.parametrize("name, method, threads", [("small", "ksl", 1), ("large", "ksl", 2), ("large", "ksl", 1),
                                                    ("small", "swept", 2)])
 def test_the_estimate_is_within_2x_of_the_measured_peak(shots, name, method, threads):
-    output = subprocess.run([sys.executable, "-c", MEASURE, str(shots[name]), method, str(threads)],
+    # -P: not the working folder first on sys.path (from a checkout, the source tree without _native)
+    output = subprocess.run([sys.executable, "-P", "-c", MEASURE, str(shots[name]), method, str(threads)],
                             check=True, capture_output=True, text=True).stdout
     measured = json.loads(output.strip().splitlines()[-1])
     ratio = measured["estimate"] / measured["rise"]

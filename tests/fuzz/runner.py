@@ -46,6 +46,10 @@ _start_lock = threading.Lock()
 def _fork_server():
     global _context
     if _context is None:
+        # The fork server starts as `python -c ...`, which puts the working folder first on sys.path:
+        # from a checkout that is the source tree, whose usdksl has no built _native. Children must
+        # import the package as installed, as the command does.
+        os.environ["PYTHONSAFEPATH"] = "1"
         _context = multiprocessing.get_context("forkserver")
         _context.set_forkserver_preload(PRELOAD)
     return _context
