@@ -12,8 +12,19 @@ std::vector<TimeWindow> split_into_windows(const Scene& scene,
     const std::vector<double> times = merged_sample_times(scene, mesh_pairs, t_begin, t_end);
     // times holds t_begin, t_end and every sample strictly between them.
     const int64_t inner = static_cast<int64_t>(times.size()) - 2;
-    count = static_cast<int32_t>(std::min<int64_t>(count, (inner + 1) / MIN_SAMPLE_STEPS_PER_WINDOW));
+    const int64_t steps = inner + 1;
+    // Sizes fall linearly, count steps for the first window down to one for
+    // the last: the windows are handed out in order, so the thread that takes
+    // the last one ends soon after the others. The last window spans at least
+    // MIN_SAMPLE_STEPS_PER_WINDOW steps, so the total weight may be at most
+    // steps / MIN_SAMPLE_STEPS_PER_WINDOW.
+    while (count > 1 && static_cast<int64_t>(count) * (count + 1) / 2 * MIN_SAMPLE_STEPS_PER_WINDOW > steps) --count;
     if (count <= 1) return {TimeWindow{t_begin, t_end}};
+    const double total_weight = static_cast<double>(count) * (count + 1) / 2.0;
+    const auto cut_before = [&](int32_t w) {  // ideal sample index where window w begins
+        const double weight_before = static_cast<double>(w) * count - static_cast<double>(w) * (w - 1) / 2.0;
+        return weight_before / total_weight * static_cast<double>(steps);
+    };
 
     // How many flightplan breakpoints fall on each sample time.
     std::vector<int64_t> shared(times.size(), 0);
@@ -31,10 +42,10 @@ std::vector<TimeWindow> split_into_windows(const Scene& scene,
     }
     std::vector<TimeWindow> windows;
     int64_t previous = 0;
-    const double spacing = static_cast<double>(inner + 1) / count;
     for (int32_t w = 1; w < count; ++w) {
-        const int64_t ideal = static_cast<int64_t>(w * spacing + 0.5);
-        const int64_t reach = static_cast<int64_t>(spacing / 4);
+        const int64_t ideal = static_cast<int64_t>(cut_before(w) + 0.5);
+        // Near the ideal cut, a quarter of the smaller neighbouring window either way.
+        const int64_t reach = static_cast<int64_t>((cut_before(w + 1) - cut_before(w)) / 4);
         int64_t best = -1;
         for (int64_t i = std::max(previous + 1, ideal - reach); i <= std::min(inner, ideal + reach); ++i) {
             const auto distance = [&](int64_t j) { return j > ideal ? j - ideal : ideal - j; };

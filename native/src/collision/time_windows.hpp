@@ -26,12 +26,16 @@ struct TimeWindow {
 constexpr int64_t MIN_SAMPLE_STEPS_PER_WINDOW = 8;
 
 /// @brief Up to `count` consecutive windows covering [t_begin, t_end], cut at
-///        sample times of the checked meshes. Near each evenly spaced cut it
-///        prefers the sample time that most flightplan breakpoints share (a
-///        keyframe of a resampled animation), so few merged steps straddle a
-///        cut and get tested by two windows. At most one window per
+///        sample times of the checked meshes. Window sizes fall linearly (the
+///        first spans `count` shares of the range, the last one share): threads
+///        take windows in order, so the last one handed out is the smallest
+///        and no thread is left with a long window while the others idle.
+///        Near each cut it prefers the sample time that most flightplan
+///        breakpoints share (a keyframe of a resampled animation), so few
+///        merged steps straddle a cut and get tested by two windows. The count
+///        shrinks until the smallest window spans about
 ///        MIN_SAMPLE_STEPS_PER_WINDOW sample steps; one window when count <= 1
-///        or there is no sample inside the range.
+///        or the range is too short.
 std::vector<TimeWindow> split_into_windows(const Scene& scene,
                                            const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
                                            double t_begin, double t_end, int32_t count);

@@ -1,7 +1,7 @@
 /// @file time_windows_test.cpp
 /// @brief Time windows for threads: contiguous cover of the range, cut at
-///        sample times, never shorter on average than
-///        MIN_SAMPLE_STEPS_PER_WINDOW sample steps.
+///        sample times, sizes falling from the first window to the last,
+///        the last spanning about MIN_SAMPLE_STEPS_PER_WINDOW sample steps.
 
 #include "../../src/collision/time_windows.hpp"
 #include "animations.hpp"
@@ -28,10 +28,10 @@ TEST(TimeWindows, ShortShotsStayOneWindow) {
     EXPECT_EQ(windows_of(11, 8).size(), 1u);
 }
 
-TEST(TimeWindows, LongShotsGetOneWindowPerMinimumSpanAtMost) {
-    const int samples = 33;   // 32 steps
+TEST(TimeWindows, LongShotsGetAsManyWindowsAsTheSmallestOneAllows) {
+    const int samples = 33;   // 32 steps: weights 2 + 1 hold 3 minimum spans (24 steps), 3 + 2 + 1 would need 48
     const auto windows = windows_of(samples, 64);
-    EXPECT_EQ(static_cast<int64_t>(windows.size()), 32 / MIN_SAMPLE_STEPS_PER_WINDOW);
+    EXPECT_EQ(windows.size(), 2u);
     EXPECT_EQ(windows.front().begin, 0.0);
     EXPECT_EQ(windows.back().end, samples - 1.0);
     for (size_t w = 0; w < windows.size(); ++w) {
@@ -41,6 +41,18 @@ TEST(TimeWindows, LongShotsGetOneWindowPerMinimumSpanAtMost) {
             EXPECT_EQ(windows[w].begin, windows[w - 1].end) << "contiguous";
         }
     }
+}
+
+TEST(TimeWindows, SizesFallSoTheLastWindowHandedOutIsTheSmallest) {
+    const int samples = 201;  // 200 steps: 6 windows need 21 minimum spans (168 steps), 7 would need 224
+    const auto windows = windows_of(samples, 8);
+    ASSERT_EQ(windows.size(), 6u);
+    for (size_t w = 1; w < windows.size(); ++w) {
+        EXPECT_LT(windows[w].end - windows[w].begin, windows[w - 1].end - windows[w - 1].begin) << "window " << w;
+    }
+    // Linear weights 6..1 of 21: the last window spans a 21st of the range.
+    EXPECT_NEAR(windows.back().end - windows.back().begin, 200.0 / 21.0, 1.0);
+    EXPECT_GE(windows.back().end - windows.back().begin, static_cast<double>(MIN_SAMPLE_STEPS_PER_WINDOW));
 }
 
 TEST(TimeWindows, FewerRequestedThanTheMinimumAllowsGivesTheRequestedCount) {
