@@ -169,7 +169,8 @@ bool KineticSeparationLists::apart(const List& list, int32_t a, int32_t b, doubl
     const StepBoxTree& tb = *trees_[list.mesh_b];
     const StepBox& ba = ta.box(a);
     const StepBox& bb = tb.box(b);
-    const double slack = fraction * std::min(ta.extent(a), tb.extent(b)) - margin_of(list);
+    // Apart means the boxes, grown by the contact distance, stay more than the hysteresis apart.
+    const double slack = fraction * std::min(ta.extent(a), tb.extent(b)) + margin_of(list);
     for (int axis = 0; axis < 3; ++axis) {
         for (int side = 0; side < 2; ++side) {
             const StepBox& upper = side == 0 ? ba : bb;

@@ -96,8 +96,9 @@ private:
     double margin_of(const List& list) const;
     /// True when the boxes of (a, b) meet at some time of the current step.
     bool meet(const List& list, int32_t a, int32_t b);
-    /// True when the boxes of (a, b) stay apart by more than `fraction` of
-    /// the smaller one's extent for the whole current step.
+    /// True when the boxes of (a, b), grown by the list's contact distance,
+    /// stay apart by more than `fraction` of the smaller one's extent for the
+    /// whole current step.
     bool apart(const List& list, int32_t a, int32_t b, double fraction) const;
     /// First step after the current one at which the boxes of (a, b), apart
     /// at the current step's end, may meet: their gap then, against the most

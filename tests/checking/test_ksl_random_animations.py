@@ -1,0 +1,141 @@
+"""The kinetic lists against brute force on seeded random animations built to reach the parts of the
+step-box core that skip work: boxes asleep until their meshes' travel could close the gap, leaf pairs
+covered several steps ahead on a clearance certificate, fronts coarsened every few steps, time windows
+split over threads.
+
+Each scene mixes meshes sampled at every frame on curves, meshes keyframed sparsely (so steps of one
+mesh fall inside another's segments), meshes that hold still for stretches and then dash, rigid boxes
+spinning through cloth, and cloth folding onto itself. Brute force tests every triangle pair on every
+raw sample step; the answer of ``ksl`` (any thread count) and ``swept`` must be brute force's, bit for
+bit: the same pairs, the same first-contact times, the same features."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from usdksl.checking.collision import find_contacts
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from builders import animated, triangle_grid  # noqa: E402
+
+#: Seeds of the scenes; each scene draws its own meshes, samples and thickness from its seed.
+SEEDS = tuple(range(30))
+#: Frames of every scene (time codes 0..FRAMES-1).
+FRAMES = 40
+#: Thicknesses (scene units) drawn from; the cloths are about one unit across.
+THICKNESSES = (0.0, 0.0, 0.002, 0.02)
+
+
+def contact_columns(result):
+    return [np.asarray(column).tolist() for column in
+            (result.time, result.mesh_a, result.tri_a, result.mesh_b, result.tri_b, result.feature)]
+
+
+def sample_times(rng) -> np.ndarray:
+    """Every frame, sparse keyframes, or every other frame."""
+    kind = rng.integers(3)
+    if kind == 0:
+        return np.arange(FRAMES, dtype=np.float64)
+    if kind == 1:
+        inner = np.sort(rng.choice(np.arange(1, FRAMES - 1), size=int(rng.integers(2, 8)), replace=False))
+        return np.concatenate([[0.0], inner.astype(np.float64), [FRAMES - 1.0]])
+    return np.append(np.arange(0, FRAMES - 1, 2, dtype=np.float64), FRAMES - 1.0)
+
+
+def hold_and_dash(rng, times: np.ndarray) -> np.ndarray:
+    """Motion parameter per sample: still until a random frame, then fast for a frame or two."""
+    dash = rng.uniform(5, FRAMES - 5)
+    return np.clip((times - dash) / rng.uniform(0.5, 2.0), 0.0, 1.0)
+
+
+def cloth(rng, times: np.ndarray):
+    """A sheet waving on curves while it drifts and folds; sometimes resting then dashing."""
+    n = int(rng.integers(5, 15))
+    verts, tris = triangle_grid(n, n)
+    verts = verts[:, [0, 2, 1]]  # lie in XZ, Y up
+    offset = rng.uniform(-0.3, 0.3, size=3)
+    amplitude, frequency, phase = rng.uniform(0.0, 0.15), rng.uniform(0.1, 0.6), rng.uniform(0, 2 * np.pi)
+    fold_speed = rng.uniform(0.0, 0.08)
+    dash = hold_and_dash(rng, times) if rng.random() < 0.3 else None
+    frames = []
+    for k, t in enumerate(times):
+        p = verts + offset
+        p[:, 1] += amplitude * np.sin(frequency * t + phase + 3.0 * verts[:, 0]) * np.cos(2.0 * verts[:, 2])
+        angle = min(fold_speed * t, 1.2 * np.pi)
+        right = verts[:, 0] > 0.5
+        dx = verts[right, 0] - 0.5
+        p[right, 0] = offset[0] + 0.5 + dx * np.cos(angle)
+        p[right, 1] += dx * np.sin(angle) + 0.02 * dx
+        if dash is not None:
+            p[:, 1] += 2.0 * (1.0 - dash[k]) - 0.3 * dash[k]
+        frames.append(p)
+    return animated(times, frames, tris)
+
+
+def spinning_box(rng, times: np.ndarray):
+    """A rigid box (12 triangles) spinning about a random axis along a curved path."""
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=np.float64)
+    corners *= rng.uniform(0.05, 0.25)
+    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+             (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    spin = rng.uniform(0.05, 0.6)
+    start, velocity = rng.uniform(-0.2, 1.2, size=3), rng.uniform(-0.04, 0.04, size=3)
+    swing = rng.uniform(0.0, 0.3)
+    frames = []
+    for t in times:
+        angle = spin * t
+        k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        rotation = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * (k @ k)
+        centre = start + velocity * t + swing * np.array([np.sin(0.2 * t), np.cos(0.15 * t) - 1.0, 0.0])
+        frames.append(corners @ rotation.T + centre)
+    return animated(times, frames, np.array(faces, dtype=np.int32))
+
+
+def still_slab(rng):
+    """A static floor under the cloths (one sample)."""
+    verts, tris = triangle_grid(2, 2, size=2.0)
+    verts = verts[:, [0, 2, 1]] + [-0.5, rng.uniform(-0.4, 0.0), -0.5]
+    return animated([0.0], [verts], tris)
+
+
+def random_scene(seed: int):
+    rng = np.random.default_rng(seed)
+    meshes = [cloth(rng, sample_times(rng)) for _ in range(int(rng.integers(1, 3)))]
+    meshes += [spinning_box(rng, sample_times(rng)) for _ in range(int(rng.integers(0, 3)))]
+    if rng.random() < 0.5:
+        meshes.append(still_slab(rng))
+    pairs = [(i, i) for i, mesh in enumerate(meshes) if len(mesh.times) > 1]
+    pairs += [(i, j) for i in range(len(meshes)) for j in range(i + 1, len(meshes))
+              if len(meshes[i].times) > 1 or len(meshes[j].times) > 1]
+    return meshes, pairs, float(rng.choice(THICKNESSES))
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_kinetic_lists_equal_brute_force_on_random_animations(seed):
+    meshes, pairs, thickness = random_scene(seed)
+    brute = contact_columns(find_contacts(meshes, pairs, method="brute", thickness=thickness))
+    for method, threads in (("ksl", 1), ("ksl", 2), ("swept", 1)):
+        answer = contact_columns(find_contacts(meshes, pairs, method=method, thickness=thickness, threads=threads))
+        missed = set(zip(*brute[1:5])) - set(zip(*answer[1:5]))
+        assert not missed, f"{method} at {threads} threads missed {sorted(missed)[:5]} (seed {seed})"
+        assert answer == brute, f"{method} at {threads} threads differs from brute force (seed {seed})"
+
+
+def test_the_random_scenes_have_contacts_and_the_kinds_of_motion_they_are_for():
+    # The scenes must exercise what they are for: contacts in most scenes, sparse keyframes beside
+    # per-frame samples, and more than one thread window (40 frames hold 2 windows).
+    with_contacts = 0
+    mixed_sampling = 0
+    for seed in SEEDS:
+        meshes, pairs, thickness = random_scene(seed)
+        if len(find_contacts(meshes, pairs, method="ksl", thickness=thickness, threads=1)):
+            with_contacts += 1
+        counts = {len(mesh.times) for mesh in meshes if len(mesh.times) > 1}
+        if len(counts) > 1:
+            mixed_sampling += 1
+    assert with_contacts >= len(SEEDS) * 2 // 3
+    assert mixed_sampling >= 3
