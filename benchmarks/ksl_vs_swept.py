@@ -1,6 +1,8 @@
 """KSL against its swept-volume baseline on one or more shots, in one run: times, ratios, counters.
 
     .venv/bin/python benchmarks/ksl_vs_swept.py SHOT[,SHOT...] swept,ksl [--threads 1,2] [--repeat 1]
+    .venv/bin/python benchmarks/ksl_vs_swept.py SHOT[,SHOT...] ksl,ksl@baseline,swept --threads 1 \
+        --baseline-python ../other-worktree/.venv/bin/python [--markdown benchmarks/results/PAGE.md]
 
 SHOT is a USD file (loaded with usdksl.load_shot; every deforming mesh is checked against itself and
 every pair with at least one deforming mesh is checked) or a generated per-frame shot:
@@ -10,27 +12,56 @@ every pair with at least one deforming mesh is checked) or a generated per-frame
 
 Each (shot, method, threads) run happens in a fresh subprocess so that its peak memory (ru_maxrss,
 reported in MB and in bytes per triangle-sample) is its own; the time is measured around
-find_contacts alone: process time (all threads added up) and wall time. Every run's answer (the first
-contact time of every triangle pair) must equal the first run's bit for bit, or the script says so and
-exits 1. Printed per run: seconds, narrow-phase tests and us per test, event counts; then per shot the
-ratios ksl/swept (process time, one thread) and the wall-time speed-up of each thread count over one.
+find_contacts alone: process time (all threads added up) and wall time. With --repeat, the repeats go
+round all settings in turn (so that every setting sees the same stretch of machine load) and the one of
+least process time counts.
+
+A method written METHOD@baseline runs METHOD with the --baseline-python interpreter instead: another
+build of usdksl (e.g. another worktree's .venv), measured in the same run as this one's, so that a
+before/after ratio of the core is read from one machine period. The children print which usdksl they
+imported.
+
+Answers: every run of one build must give the same answer (the first contact time of every triangle
+pair) bit for bit, or the script says so and exits 1. Across builds, the authored face pairs and their
+first-contact times are compared against the baseline build's first run: a pair the baseline reports
+that this build misses, or reports later than ANSWER_TIME_ALLOWANCE sample intervals after the
+baseline, is printed as MISSED/LATER and the script exits 1 (earlier times and extra pairs are printed
+too). Printed per run: seconds, narrow-phase tests and us per test, event counts; then per shot the
+ratios ksl/swept (process time, one thread), each METHOD/METHOD@baseline (process time) and the
+wall-time speed-up of each thread count over one. --markdown writes the same as a page, rewritten
+after every shot, with the 1-minute load average seen at the start of every run.
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
 import hashlib
 import json
 import os
 import resource
 import subprocess
+import shlex
 import sys
+import tempfile
 import time
 
 import numpy as np
 
 EVENT_COUNTERS = ("kinetic_tree_events", "bv_overlap_events", "fathers_do_not_overlap_events",
                   "leaves_do_not_overlap_events", "polygons_collide_events", "bv_change_events")
+
+#: A method label ending in this runs with the --baseline-python interpreter (another build of usdksl).
+BASELINE_SUFFIX = "@baseline"
+
+#: Largest difference between two builds' first-contact times of one face pair that still counts as the
+#: same answer, in sample intervals (the shot's longest): the CCD root search stops once its time
+#: interval is this narrow (native DEFAULT_CCD_TOLERANCE, a fraction of one step), so two correct
+#: builds may report any time inside that last interval.
+ANSWER_TIME_ALLOWANCE = 1e-6
+
+#: Columns of the face-contact table a child saves for the cross-build comparison.
+FACE_CONTACT_COLUMNS = ("time", "mesh_a", "face_a", "mesh_b", "face_b")
 
 
 class GeneratedMesh:
@@ -88,8 +119,15 @@ def checked_pairs(meshes):
     return pairs
 
 
-def run_one(shot, method, threads):
-    """Runs one check in this process and returns its measurements as a dict."""
+def longest_sample_interval(meshes):
+    """The longest gap between consecutive sample times of any mesh (time codes); 1.0 if none moves."""
+    gaps = [float(np.diff(m.times).max()) for m in meshes if m.times.shape[0] > 1]
+    return max(gaps) if gaps else 1.0
+
+
+def run_one(shot, method, threads, contacts_out=None):
+    """Runs one check in this process and returns its measurements as a dict; saves the first contact of
+    every authored face pair (FACE_CONTACT_COLUMNS) to ``contacts_out`` (.npz) when given."""
     import usdksl
     meshes = load_meshes(shot)
     pairs = checked_pairs(meshes)
@@ -102,74 +140,259 @@ def run_one(shot, method, threads):
         answer.update(np.ascontiguousarray(column).tobytes())
     triangle_samples = sum(int(m.triangles.shape[0]) * int(m.times.shape[0]) for m in meshes)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    faces = result.face_contacts(meshes)
+    if contacts_out:
+        np.savez(contacts_out, **{name: getattr(faces, name) for name in FACE_CONTACT_COLUMNS})
     return {"cpu": cpu, "wall": wall, "counters": result.counters, "pairs": len(result),
-            "face_pairs": len(result.face_contacts(meshes)), "answer": answer.hexdigest()[:16],
+            "face_pairs": len(faces), "answer": answer.hexdigest()[:16],
             "peak_bytes": peak, "triangle_samples": triangle_samples,
-            "triangles": sum(int(m.triangles.shape[0]) for m in meshes)}
+            "triangles": sum(int(m.triangles.shape[0]) for m in meshes),
+            "sample_interval": longest_sample_interval(meshes), "usdksl": os.path.dirname(usdksl.__file__)}
 
 
-def run_isolated(shot, method, threads):
-    command = [sys.executable, os.path.abspath(__file__), "--one", shot, method, str(threads or 0)]
+def run_isolated(shot, label, threads, baseline_python=None, contacts_out=None):
+    """Runs ``label`` (a method, or METHOD@baseline for the baseline interpreter) in a fresh process."""
+    python, method = sys.executable, label
+    if label.endswith(BASELINE_SUFFIX):
+        if not baseline_python:
+            raise SystemExit(f"{label} needs --baseline-python")
+        python, method = baseline_python, label[:-len(BASELINE_SUFFIX)]
+    command = [python, os.path.abspath(__file__), "--one", shot, method, str(threads or 0)]
+    if contacts_out:
+        command += ["--contacts-out", contacts_out]
+    load = os.getloadavg()[0]
     out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    return dict(json.loads(out.strip().splitlines()[-1]), load=load)
+
+
+def build_of(label):
+    return "baseline" if label.endswith(BASELINE_SUFFIX) else "current"
+
+
+def compare_face_contacts(reference, other, allowance):
+    """Face contacts of ``other`` against ``reference`` (dicts of FACE_CONTACT_COLUMNS arrays, one row per
+    face pair). ``allowance``: time codes by which the two may differ and still agree. Returns counts of
+    pairs missed (in reference only), extra (in other only), later / earlier (in both, other's time past
+    the allowance after / before reference's) and the largest time difference (time codes)."""
+    def keys(contacts):
+        return np.stack([np.asarray(contacts[c], np.int64) for c in FACE_CONTACT_COLUMNS[1:]], axis=1)
+
+    ref_keys, other_keys = keys(reference), keys(other)
+    _, inverse = np.unique(np.concatenate([ref_keys, other_keys]), axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    common, ref_at, other_at = np.intersect1d(inverse[:len(ref_keys)], inverse[len(ref_keys):],
+                                              assume_unique=True, return_indices=True)
+    delta = np.asarray(other["time"], np.float64)[other_at] - np.asarray(reference["time"], np.float64)[ref_at]
+    return {"common": int(len(common)), "missed": int(len(ref_keys) - len(common)),
+            "extra": int(len(other_keys) - len(common)), "later": int(np.count_nonzero(delta > allowance)),
+            "earlier": int(np.count_nonzero(delta < -allowance)),
+            "max_abs_dt": float(np.abs(delta).max()) if delta.size else 0.0}
+
+
+def is_same_answer(comparison):
+    return not any(comparison[k] for k in ("missed", "extra", "later", "earlier"))
 
 
 def describe(shot, method, threads, r):
     c = r["counters"]
     tests = max(1, c["narrow_phase_tests"])
     events = sum(c[k] for k in EVENT_COUNTERS)
-    return (f"{os.path.basename(shot):32s} {method:6s} thr={threads or 1:<2d} cpu={r['cpu']:8.2f}s "
+    return (f"{os.path.basename(shot):32s} {method:12s} thr={threads or 1:<2d} cpu={r['cpu']:8.2f}s "
             f"wall={r['wall']:8.2f}s tests={c['narrow_phase_tests']:>10d} us/test={1e6 * r['cpu'] / tests:6.2f} "
             f"queries={c['primitive_queries']:>10d} events={events:>9d} (tree={c['kinetic_tree_events']} "
             f"pc={c['polygons_collide_events']} bvchg={c['bv_change_events']} overlap={c['bv_overlap_events']} "
             f"fathers={c['fathers_do_not_overlap_events']} leaves={c['leaves_do_not_overlap_events']}) "
             f"confirm={c['raw_confirmations']} reject={c['raw_rejections']} tri_pairs={r['pairs']} "
             f"face_pairs={r['face_pairs']} peak={r['peak_bytes'] / 2**20:.0f}MB "
-            f"({r['peak_bytes'] / max(1, r['triangle_samples']):.0f} B/tri-sample) answer={r['answer']}")
+            f"({r['peak_bytes'] / max(1, r['triangle_samples']):.0f} B/tri-sample) answer={r['answer']} "
+            f"load={r['load']:.2f}")
+
+
+def git_revision(folder):
+    """Short commit of the checkout holding ``folder``, with '+changes' when its tracked files differ."""
+    def git(*args):
+        return subprocess.run(["git", "-C", folder, *args], capture_output=True, text=True).stdout.strip()
+    commit = git("rev-parse", "--short", "HEAD") or "unknown"
+    return commit + ("+changes" if git("status", "--porcelain", "--untracked-files=no") else "")
+
+
+def measure_shot(shot, labels, thread_counts, repeat, baseline_python, scratch):
+    """Runs every (label, threads) ``repeat`` times, round after round; returns {(label, threads): best
+    run} (least process time) and {(label, threads): saved face contacts}."""
+    results, contacts = {}, {}
+    for _ in range(repeat):
+        for label in labels:
+            for threads in thread_counts:
+                key = (label, threads)
+                path = os.path.join(scratch, f"{len(os.listdir(scratch))}.npz")
+                r = run_isolated(shot, label, threads, baseline_python, path)
+                print(describe(shot, label, threads, r), flush=True)
+                contacts.setdefault(key, path)
+                if key not in results or r["cpu"] < results[key]["cpu"]:
+                    results[key] = r
+    return results, contacts
+
+
+def judge_answers(shot, results, contacts):
+    """Prints and returns (lines, cross-build comparisons {key: comparison}, failed)."""
+    lines, comparisons, failed = [], {}, False
+    for build in ("current", "baseline"):
+        answers = {r["answer"] for (label, _), r in results.items() if build_of(label) == build}
+        if len(answers) > 1:
+            lines.append(f"{shot}: ANSWERS DIFFER between runs of the {build} build: {sorted(answers)}")
+            failed = True
+        elif answers:
+            lines.append(f"{shot}: every run of the {build} build gave the same answer ({answers.pop()})")
+    reference_key = next((key for key in results if build_of(key[0]) == "baseline"), None)
+    if reference_key is not None:
+        with np.load(contacts[reference_key]) as saved:
+            reference = dict(saved)
+        interval = results[reference_key]["sample_interval"]
+        for key, r in results.items():
+            if build_of(key[0]) != "current":
+                continue
+            with np.load(contacts[key]) as saved:
+                c = compare_face_contacts(reference, dict(saved), ANSWER_TIME_ALLOWANCE * interval)
+            comparisons[key] = c
+            verdict = ("SAME answer within the CCD tolerance" if is_same_answer(c) else
+                       "DIFFERENT answer")
+            lines.append(f"{shot}: {key[0]} against {reference_key[0]}: {verdict}: {c['common']} face pairs in "
+                         f"both, missed {c['missed']}, extra {c['extra']}, later {c['later']}, earlier "
+                         f"{c['earlier']}, max |dt| {c['max_abs_dt']:.3g} time codes "
+                         f"({c['max_abs_dt'] / interval:.3g} sample intervals)")
+            if c["missed"] or c["later"]:
+                lines.append(f"{shot}: !!! {key[0]} MISSES {c['missed']} AND DELAYS {c['later']} CONTACTS "
+                             f"THAT {reference_key[0]} REPORTS !!!")
+                failed = True
+    for line in lines:
+        print(line, flush=True)
+    return lines, comparisons, failed
+
+
+def ratio_lines(shot, results, labels, thread_counts):
+    single, lines = thread_counts[0], []
+    if ("ksl", single) in results and ("swept", single) in results:
+        ratio = results[("ksl", single)]["cpu"] / results[("swept", single)]["cpu"]
+        lines.append(f"{shot}: ksl/swept process time at threads={single or 'default'}: {ratio:.3f}")
+    for label in labels:
+        baseline = (label + BASELINE_SUFFIX, single)
+        if baseline in results and (label, single) in results:
+            ratio = results[(label, single)]["cpu"] / results[baseline]["cpu"]
+            lines.append(f"{shot}: {label}/{baseline[0]} process time at threads={single or 'default'}: {ratio:.3f}")
+    for label in labels:
+        base = results.get((label, single))
+        for threads in thread_counts[1:]:
+            r = results[(label, threads)]
+            lines.append(f"{shot}: {label} wall speed-up threads={threads} over threads={single}: "
+                         f"{base['wall'] / r['wall']:.2f}x")
+    for line in lines:
+        print(line, flush=True)
+    return lines
+
+
+def answer_cell(comparisons, results, single):
+    """'yes'/'NO' with the numbers for the markdown page, from the comparisons of this build's KSL run."""
+    c = comparisons.get(("ksl", single)) or next(iter(comparisons.values()), None)
+    if c is None:
+        return "not compared"
+    interval = next(iter(results.values()))["sample_interval"]
+    detail = f"{c['common']} face pairs, max \\|dt\\| {c['max_abs_dt'] / interval:.2g} intervals"
+    if is_same_answer(c):
+        return f"yes ({detail})"
+    return (f"**NO**: missed {c['missed']}, later {c['later']}, extra {c['extra']}, earlier {c['earlier']} "
+            f"({detail})")
+
+
+def render_markdown(title, command, shots_done, labels, thread_counts, builds):
+    single = thread_counts[0]
+    lines = [f"# {title}", "", f"Command (run under `nice`): `{command}`", "",
+             f"Run on {os.uname().machine}, {os.cpu_count()} cores, started "
+             f"{shots_done[0]['started'] if shots_done else ''}; builds: " +
+             "; ".join(f"{build} = `{folder}` at {rev}" for build, (folder, rev) in builds.items()) + ".", "",
+             f"`METHOD{BASELINE_SUFFIX}` is METHOD run by the baseline build, every other method by the current "
+             "build; each run is a fresh process, the runs of one shot follow each other, so every ratio "
+             "compares runs made minutes apart under the same machine load. Seconds are process time "
+             "(CPU) of find_contacts alone, threads="
+             f"{single or 'default'}; the machine is shared, so read the ratios, not the seconds. Same answer: "
+             "authored face pairs and first-contact times of the current build's KSL against the baseline's "
+             f"KSL, equal within {ANSWER_TIME_ALLOWANCE:g} sample intervals (the CCD tolerance).", ""]
+    pairs = [label for label in labels if label + BASELINE_SUFFIX in labels]
+    head = ["shot", "triangles x samples"] + [f"{label} CPU s" for label in labels]
+    head += [f"{label}/{label}{BASELINE_SUFFIX}" for label in pairs]
+    if "ksl" in labels and "swept" in labels:
+        head.append("swept/ksl")
+    head += ["same answer", "load (1 min)"]
+    lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for done in shots_done:
+        results = done["results"]
+        first = next(iter(results.values()))
+        cells = [os.path.basename(done["shot"]),
+                 f"{first['triangles']} x {first['triangle_samples'] // max(1, first['triangles'])}"]
+        cells += [f"{results[(label, single)]['cpu']:.2f}" for label in labels]
+        cells += [f"**{results[(label, single)]['cpu'] / results[(label + BASELINE_SUFFIX, single)]['cpu']:.3f}**"
+                  for label in pairs]
+        if "ksl" in labels and "swept" in labels:
+            cells.append(f"{results[('swept', single)]['cpu'] / results[('ksl', single)]['cpu']:.2f}")
+        loads = [r["load"] for r in results.values()]
+        cells += [answer_cell(done["comparisons"], results, single), f"{min(loads):.1f}-{max(loads):.1f}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    counters = ("bv_tests", "narrow_phase_tests", "primitive_queries", "cleared_steps")
+    lines += ["", "## Counters", "",
+              "Events: the sum of " + ", ".join(EVENT_COUNTERS) + ". Face pairs: contacting authored face pairs.", "",
+              "| shot | method | threads | CPU s | wall s | " + " | ".join(counters) + " | events | face pairs | "
+              "peak MB |", "|" + "---|" * (9 + len(counters))]
+    for done in shots_done:
+        for (label, threads), r in done["results"].items():
+            c = r["counters"]
+            lines.append(f"| {os.path.basename(done['shot'])} | {label} | {threads or 'default'} | {r['cpu']:.2f} | "
+                         f"{r['wall']:.2f} | " + " | ".join(str(c.get(name, '')) for name in counters) +
+                         f" | {sum(c[k] for k in EVENT_COUNTERS)} | {r['face_pairs']} | "
+                         f"{r['peak_bytes'] / 2**20:.0f} |")
+    lines += ["", "## Printed verdicts", "", "```"]
+    for done in shots_done:
+        lines += done["lines"]
+    lines += ["```", ""]
+    return "\n".join(lines)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--one", nargs=3, metavar=("SHOT", "METHOD", "THREADS"), help=argparse.SUPPRESS)
+    parser.add_argument("--contacts-out", help=argparse.SUPPRESS)
     parser.add_argument("shots", nargs="?")
-    parser.add_argument("methods", nargs="?", default="swept,ksl")
+    parser.add_argument("methods", nargs="?", default="swept,ksl",
+                        help=f"comma-separated; METHOD{BASELINE_SUFFIX} runs METHOD with --baseline-python")
     parser.add_argument("--threads", default=None,
                         help="comma-separated thread counts (default: the core's default, one run)")
-    parser.add_argument("--repeat", type=int, default=1, help="runs per setting; the fastest counts")
+    parser.add_argument("--repeat", type=int, default=1, help="runs per setting; the least process time counts")
+    parser.add_argument("--baseline-python", default=None,
+                        help="interpreter of another build of usdksl, for the METHOD@baseline methods")
+    parser.add_argument("--markdown", default=None, help="write the results as a markdown page here")
+    parser.add_argument("--title", default="KSL against swept in one run", help="heading of the --markdown page")
     args = parser.parse_args()
     if args.one:
         shot, method, threads = args.one
-        print(json.dumps(run_one(shot, method, int(threads) or None)))
+        print(json.dumps(run_one(shot, method, int(threads) or None, args.contacts_out)))
         return 0
     thread_counts = [int(t) for t in args.threads.split(",")] if args.threads else [None]
-    status = 0
-    for shot in args.shots.split(","):
-        results = {}
-        for method in args.methods.split(","):
-            for threads in thread_counts:
-                best = None
-                for _ in range(args.repeat):
-                    r = run_isolated(shot, method, threads)
-                    if best is None or r["wall"] < best["wall"]:
-                        best = r
-                results[(method, threads)] = best
-                print(describe(shot, method, threads, best), flush=True)
-        answers = {r["answer"] for r in results.values()}
-        if len(answers) != 1:
-            print(f"{shot}: ANSWERS DIFFER between runs: {sorted(answers)}")
-            status = 1
-        else:
-            print(f"{shot}: every run gave the same answer ({answers.pop()})")
-        single = thread_counts[0]
-        if ("ksl", single) in results and ("swept", single) in results:
-            ratio = results[("ksl", single)]["cpu"] / results[("swept", single)]["cpu"]
-            print(f"{shot}: ksl/swept process time at threads={single or 'default'}: {ratio:.3f}")
-        for method in args.methods.split(","):
-            base = results.get((method, thread_counts[0]))
-            for threads in thread_counts[1:]:
-                r = results[(method, threads)]
-                print(f"{shot}: {method} wall speed-up threads={threads} over threads={thread_counts[0]}: "
-                      f"{base['wall'] / r['wall']:.2f}x")
+    labels = args.methods.split(",")
+    command = "python benchmarks/ksl_vs_swept.py " + " ".join(shlex.quote(a) for a in sys.argv[1:])
+    status, shots_done, builds = 0, [], {}
+    with tempfile.TemporaryDirectory(prefix="ksl_vs_swept_") as scratch:
+        for shot in args.shots.split(","):
+            started = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
+            results, contacts = measure_shot(shot, labels, thread_counts, args.repeat, args.baseline_python, scratch)
+            for (label, _), r in results.items():
+                if build_of(label) not in builds:
+                    builds[build_of(label)] = (r["usdksl"], git_revision(r["usdksl"]))
+            lines, comparisons, failed = judge_answers(shot, results, contacts)
+            lines += ratio_lines(shot, results, labels, thread_counts)
+            status |= int(failed)
+            shots_done.append({"shot": shot, "started": started, "results": results, "comparisons": comparisons,
+                               "lines": lines})
+            if args.markdown:
+                with open(args.markdown, "w") as handle:
+                    handle.write(render_markdown(args.title, command, shots_done, labels, thread_counts, builds))
     return status
 
 

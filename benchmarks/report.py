@@ -36,6 +36,10 @@ BATCH_SCALING_MD = "batch_scaling.md"
 EMBEDDED_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.py)"),
                   ("exact_times.md", "Reported times against a tight reference (benchmarks/peer_ipctk.py)"),
                   ("scale.md", "10k to 1M faces (benchmarks/scale.py)"))
+#: benchmarks/ksl_vs_swept.py --baseline-python: KSL of the core before and after a change on a subset of
+#: the keyframed grid, in one run; embedded right after the grid it checks.
+GRID_BEFORE_AFTER_PAGE = ("keyframed_before_after.md",
+                          "The keyframed grid before and after the step-batched KSL core (benchmarks/ksl_vs_swept.py)")
 
 
 def _ok(row: Dict, label: str) -> Optional[Dict]:
@@ -450,6 +454,18 @@ def grid_table(rows: Sequence[Dict]) -> List[str]:
     return lines
 
 
+def embedded_page(out_dir: str, name: str, heading: str) -> List[str]:
+    """Lines of the page ``name`` in ``out_dir`` as a section under ``heading`` (its own title dropped, its
+    sections one level down); none when the page is absent."""
+    page = os.path.join(out_dir, name)
+    if not os.path.exists(page):
+        return []
+    with open(page) as handle:
+        body = handle.read().strip().split("\n", 1)
+    text = body[1].strip() if body[0].startswith("# ") and len(body) > 1 else "\n".join(body)
+    return [f"## {heading}", "", f"From [{name}]({name}):", "", text.replace("\n## ", "\n### "), ""]
+
+
 def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_dir: str,
            command: str = "", machine: str = "") -> str:
     lines = ["# usdksl: what accuracy costs in time", ""]
@@ -483,6 +499,7 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
         lines += ["## KSL against swept across the grid", "",
                   "CPU seconds of KSL per shot and sampling (samples per keyframe, spk), and swept's CPU time as a "
                   "multiple of it; details and every other method under 'Per shot'.", ""] + table + [""]
+    lines += embedded_page(out_dir, *GRID_BEFORE_AFTER_PAGE)
     lines += ["## Plots", ""]
     captions = {"time_vs_missed.png": "Time against missed contacts (every sampling of each shot where KSL ran)",
                 "events_vs_bv_tests.png": "KSL events vs swept BV tests per interval over mesh size (Fig. 11)",
@@ -499,12 +516,7 @@ def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_di
             lines += ["From [ccd_tolerance.md](ccd_tolerance.md) (per-query CCD on the shared ground-truth "
                       "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
     for name, heading in EMBEDDED_PAGES:
-        page = os.path.join(out_dir, name)
-        if os.path.exists(page):
-            with open(page) as handle:
-                body = handle.read().strip().split("\n", 1)
-            text = body[1].strip() if body[0].startswith("# ") and len(body) > 1 else "\n".join(body)
-            lines += [f"## {heading}", "", f"From [{name}]({name}):", "", text.replace("\n## ", "\n### "), ""]
+        lines += embedded_page(out_dir, name, heading)
     batches = os.path.join(out_dir, BATCH_SCALING_MD)
     if os.path.exists(batches):
         with open(batches) as handle:

@@ -169,3 +169,16 @@ def test_hand_written_notes_are_embedded_under_investigations(tmp_path):
     (tmp_path / report.NOTES_MD).write_text("- a finding, with the command that checks it\n")
     page = report.render(rows, 60.0, {}, str(tmp_path))
     assert "## Investigations" in page and "- a finding, with the command that checks it" in page
+
+
+def test_the_keyframed_before_after_page_follows_the_grid_it_checks(tmp_path):
+    rows = [{"shot": dict(shot("tablecloth", 2000, 1), path="a.usdc"),
+             "methods": {"ksl": record(1.0), "swept": record(2.0)}}]
+    name, heading = report.GRID_BEFORE_AFTER_PAGE
+    assert heading not in report.render(rows, 60.0, {}, str(tmp_path))
+    (tmp_path / name).write_text("# before and after\n\n| shot | ksl/ksl@baseline |\n\n## Counters\n\nnumbers\n")
+    page = report.render(rows, 60.0, {}, str(tmp_path))
+    grid, section, plots = (page.index(s) for s in ("## KSL against swept across the grid", f"## {heading}",
+                                                    "## Plots"))
+    assert grid < section < plots
+    assert "| shot | ksl/ksl@baseline |" in page and "### Counters" in page and "# before and after" not in page
