@@ -102,7 +102,7 @@ def still_slab(rng):
     return animated([0.0], [verts], tris)
 
 
-def random_scene(seed: int):
+def random_scene(seed: int, thicknesses=THICKNESSES):
     rng = np.random.default_rng(seed)
     meshes = [cloth(rng, sample_times(rng)) for _ in range(int(rng.integers(1, 3)))]
     meshes += [spinning_box(rng, sample_times(rng)) for _ in range(int(rng.integers(0, 3)))]
@@ -111,7 +111,7 @@ def random_scene(seed: int):
     pairs = [(i, i) for i, mesh in enumerate(meshes) if len(mesh.times) > 1]
     pairs += [(i, j) for i in range(len(meshes)) for j in range(i + 1, len(meshes))
               if len(meshes[i].times) > 1 or len(meshes[j].times) > 1]
-    return meshes, pairs, float(rng.choice(THICKNESSES))
+    return meshes, pairs, float(rng.choice(thicknesses))
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -123,6 +123,21 @@ def test_kinetic_lists_equal_brute_force_on_random_animations(seed):
         missed = set(zip(*brute[1:5])) - set(zip(*answer[1:5]))
         assert not missed, f"{method} at {threads} threads missed {sorted(missed)[:5]} (seed {seed})"
         assert answer == brute, f"{method} at {threads} threads differs from brute force (seed {seed})"
+
+
+#: Thicknesses of the graze scenes, and the seeds among them where a pair grazes at the thickness across a
+#: raw step that ends at a sample: the candidate search at the thickness plus merge slack reports it
+#: at the next step's begin, and confirmation must find it on the step before, as brute force does.
+GRAZE_THICKNESSES = (0.0, 0.001, 0.005, 0.02, 0.05)
+GRAZE_SEEDS = (185,)
+
+
+@pytest.mark.parametrize("seed", GRAZE_SEEDS)
+def test_a_graze_found_at_a_step_begin_is_confirmed_on_the_step_before(seed):
+    meshes, pairs, thickness = random_scene(seed, GRAZE_THICKNESSES)
+    brute = contact_columns(find_contacts(meshes, pairs, method="brute", thickness=thickness))
+    for method in ("ksl", "swept"):
+        assert contact_columns(find_contacts(meshes, pairs, method=method, thickness=thickness, threads=1)) == brute
 
 
 def test_the_random_scenes_have_contacts_and_the_kinds_of_motion_they_are_for():

@@ -4,6 +4,8 @@
 #include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace usdksl {
 namespace {
@@ -22,6 +24,18 @@ CCDSettings confirming(const CCDSettings& settings) {
 void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, double t_begin, double t_end) {
     if (from <= t_begin && raw.test_static(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, t_begin)) return;
     double t = std::max(from, t_begin);
+    if (t > t_begin) {
+        // A candidate at a step's begin came from a search at a larger contact
+        // distance (merge slack), whose answer near a graze is not monotone in
+        // it: the raw step ending there may still touch at the thickness alone,
+        // and brute force, which tests every raw step, would report it there.
+        const PairStep before = raw.step_containing(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b,
+                                                    std::nextafter(t, -std::numeric_limits<double>::infinity()));
+        if (before.valid() && before.end == t && before.begin >= t_begin &&
+            raw.test_step(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, before)) {
+            return;
+        }
+    }
     while (true) {
         const PairStep step = raw.step_containing(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, t);
         if (!step.valid() || step.begin >= t_end) return;
