@@ -73,6 +73,9 @@ def _save_faces(path: str, paths: List[str], time_, mesh_a, face_a, mesh_b, face
 def worker(method: str, shot_path: str, out_prefix: str) -> Dict:
     """Run one method on one shot in this fresh process; contacts go to ``out_prefix``.npz."""
     record: Dict = {"method": method}
+    if method in ("check",) + USDKSL_METHODS:   # both use the default: every core this process may use
+        from usdksl.checking.collision import default_threads
+        record["threads"] = default_threads()
     if method == "check":
         with tempfile.TemporaryDirectory(prefix="newton-bench-") as out_dir:
             command = [_usdksl_executable(), "check", shot_path, "--out", out_dir]
@@ -297,9 +300,11 @@ def markdown(entries: List[Dict], command: str) -> str:
              "all-first-contacts pipeline (same answer as check), `ipctk-sweep` its earliest-contact sweep, "
              "`tight` the Tight-Inclusion 1e-9 reference. Produced by benchmarks/newton_bench.py; raw numbers in "
              "newton.json.", "",
-             "Ratios are given for wall time and, in parentheses, CPU time (ipctk runs 2 TBB threads, so its CPU "
-             "seconds add up both cores; usdksl here runs one thread; check's CPU includes interpreter start "
-             "and loading the cache).", "",
+             "Ratios are given for wall time and, in parentheses, CPU time (CPU seconds add up all threads: ipctk "
+             "runs TBB on every core; `check` runs with its default `--threads`, every core the process may use, "
+             "and ksl/swept/discrete call `find_contacts` with its default, also every core; the thread count of "
+             "each run is in newton.json; check's CPU includes interpreter start, imports, loading the cache, "
+             "planning, confirmation on raw samples and writing the CSV/USD outputs).", "",
              f"The last column is check's time error vs the tight reference: face pairs within "
              f"{peer_ipctk.AGREEMENT_TIME_CODES:g} time codes of it (of the pairs both report), largest early and "
              "late error (time codes), reported pairs the reference never sees touch, reference pairs check "

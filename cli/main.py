@@ -1,24 +1,47 @@
-"""Entry point of the ``usdksl`` command: one click group, one module per command."""
+"""Entry point of the ``usdksl`` command: one click group, one module per command.
+
+A command's module is imported only when that command runs (or ``--help`` lists it): ``usdksl check``
+does not pay for the cross-check's Embree code, the farm merge or the benchmark driver at start-up.
+"""
+
+from importlib import import_module
 
 import click
 
-from .. import __version__
+#: Command name -> the module (relative to this package) that defines it, under the same name.
+COMMAND_MODULES = {
+    "info": ".info",
+    "check": ".check",
+    "crosscheck": ".crosscheck",
+    "bench": ".bench",
+    "merge": ".merge",
+}
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(__version__, prog_name="usdksl")
+class LazyCommands(click.Group):
+    """A click group that imports a command's module the first time the command is asked for."""
+
+    def list_commands(self, ctx):
+        return sorted(COMMAND_MODULES)
+
+    def get_command(self, ctx, name):
+        module_name = COMMAND_MODULES.get(name)
+        if module_name is None:
+            return None
+        return getattr(import_module(module_name, __package__), name)
+
+
+def _show_version(ctx, _param, value):
+    if not value or ctx.resilient_parsing:
+        return
+    from ..version import package_version   # importlib.metadata only when asked
+
+    click.echo(f"usdksl, version {package_version()}")
+    ctx.exit()
+
+
+@click.group(cls=LazyCommands, context_settings={"help_option_names": ["-h", "--help"]})
+@click.option("--version", is_flag=True, expose_value=False, is_eager=True, callback=_show_version,
+              help="Show the version and exit.")
 def main():
     """Prove that a USD animation cache is free of interpenetrations."""
-
-
-def _register():
-    from .info import info
-
-    main.add_command(info)
-    from .check import check; main.add_command(check)  # noqa: E702
-    from .crosscheck import crosscheck; main.add_command(crosscheck)  # noqa: E702
-    from .bench import bench; main.add_command(bench)  # noqa: E702
-    from .merge import merge; main.add_command(merge)  # noqa: E702
-
-
-_register()

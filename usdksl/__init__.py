@@ -21,7 +21,6 @@ from ._openusd import require_openusd
 
 if find_spec("pxr") is None:   # cheap: finds the module without loading USD
     require_openusd()          # one actionable line when neither usd-core nor a studio USD provides pxr
-from .version import __version__
 
 #: Public name -> the module that defines it (a module itself when the name is a sub-module).
 _EXPORTS = {
@@ -46,6 +45,10 @@ __all__ = ["__version__"] + sorted(name for name in _EXPORTS if not name.startsw
 
 
 def __getattr__(name):
+    if name == "__version__":   # looked up on first use (usdksl.version): importlib.metadata is slow to import
+        from .version import package_version
+
+        return package_version()
     module_name = _EXPORTS.get(name)
     if module_name is None:
         raise AttributeError(f"module 'usdksl' has no attribute {name!r}")
@@ -57,10 +60,11 @@ def __getattr__(name):
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_EXPORTS))
+    return sorted(set(globals()) | set(_EXPORTS) | {"__version__"})
 
 
 if TYPE_CHECKING:   # what the names are, for type checkers and readers
+    from .version import __version__  # noqa: F401
     from . import _native, ccd, errors  # noqa: F401
     from .checking.collision import CollisionResult, find_contacts  # noqa: F401
     from .checking.pipeline import CheckOptions, CheckResult, check_shot  # noqa: F401

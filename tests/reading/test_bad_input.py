@@ -220,3 +220,24 @@ def test_attributes_authored_with_a_type_usd_does_not_know(samples_dir, tmp_path
         load_shot(path)
     line = str(raised.value)
     assert line.startswith(f"{path}: {prim}: ") and "with a type USD does not know" in line and "\n" not in line
+
+
+def fill_nan_then_points_count_changes(stage):
+    bad = POINTS.copy()
+    bad[2, 0] = math.nan
+    write_mesh(stage, "/World/Bad", COUNTS, INDICES,
+               samples={1.0: POINTS, 2.0: bad, 3.0: POINTS, 4.0: np.vstack([POINTS, [[5, 5, 5]]])})
+
+
+@pytest.mark.parametrize("block_values", [None, 27, 2 * 27])
+def test_the_earliest_bad_sample_is_named_however_samples_are_batched(build, monkeypatch, block_values):
+    """Samples under a still transform are read, then moved to world space, a block at a time: the error is
+    still the one at the earliest bad sample (the NaN at 2, not the points count at 4)."""
+    from usdksl.reading import meshes
+
+    if block_values is not None:   # blocks of one sample, and of two
+        monkeypatch.setattr(meshes, "FIXED_TRANSFORM_BLOCK_VALUES", block_values)
+    path = build("nan_then_count.usda", fill_nan_then_points_count_changes)
+    with pytest.raises(UsdkslInputError, match="point 2 is NaN") as raised:
+        load_shot(path)
+    assert raised.value.time == 2.0

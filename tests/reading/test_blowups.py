@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from usdksl.reading import blowups
 from usdksl.reading.blowups import BLOWUP_SIZE_FACTOR, describe_blowups, find_blowups, shot_blowups
 
 
@@ -64,3 +65,29 @@ def test_static_and_rigid_meshes_are_not_scanned():
             self.points[3, 0, 0] = 1e9
     assert shot_blowups([Mesh("rigid"), Mesh("static")]) == []
     assert len(shot_blowups([Mesh("deforming")])) == 2
+
+
+def _blowups_step_by_step(prim, times, points):
+    """The detection rule (module docstring) applied one step at a time, as the reference."""
+    size = float(np.median(np.linalg.norm(points.max(axis=1) - points.min(axis=1), axis=1)))
+    found = []
+    for k in range(points.shape[0] - 1):
+        step = points[k + 1] - points[k]
+        excess = np.linalg.norm(step - np.median(step, axis=0), axis=1)
+        found += [(int(v), float(times[k]), float(times[k + 1]), float(excess[v]), size)
+                  for v in np.flatnonzero(excess > BLOWUP_SIZE_FACTOR * size)]
+    return found
+
+
+@pytest.mark.parametrize("block_values", [None, 7, 3 * 36 * 4])
+def test_blocks_of_steps_find_exactly_what_single_steps_find(monkeypatch, block_values):
+    if block_values is not None:   # blocks of one step, and blocks of four steps that leave a remainder
+        monkeypatch.setattr(blowups, "BLOWUP_BLOCK_VALUES", block_values)
+    times, points = waving_cloth(frames=23)
+    rng = np.random.default_rng(7)
+    for frame, vertex in zip(rng.integers(0, 23, 9), rng.integers(0, 36, 9)):
+        points[frame, vertex] += rng.normal(size=3) * 10.0 ** rng.integers(2, 6)
+    found = find_blowups("/World/Cloth", times, points)
+    expected = _blowups_step_by_step("/World/Cloth", times, points)
+    assert len(expected) >= 9
+    assert [(b.vertex, b.time_before, b.time_after, b.excess, b.mesh_size) for b in found] == expected

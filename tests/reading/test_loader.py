@@ -337,3 +337,22 @@ def test_include_that_matches_nothing_is_an_input_error(build):
     path = build("none.usda", lambda s: write_mesh(s, "/World/Cloth", counts, indices, points=points))
     with pytest.raises(UsdkslInputError, match="no UsdGeom.Mesh prims match"):
         load_shot(path, include=["/Elsewhere"])
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("projective", [False, True])
+def test_a_stack_of_samples_goes_to_world_space_with_the_same_numbers_as_one_by_one(dtype, projective):
+    """The loader moves the samples of a mesh under a still transform together (usdksl.reading.meshes):
+    every bit equals the sample-by-sample product."""
+    from usdksl.reading.meshes import _to_world
+
+    rng = np.random.default_rng(3)
+    local = (rng.normal(size=(7, 50, 3)) * 10.0 ** rng.integers(-3, 4, size=(7, 50, 1))).astype(dtype)
+    matrix = rng.normal(size=(4, 4))
+    matrix[:, 3] = rng.normal(size=4) if projective else (0.0, 0.0, 0.0, 1.0)
+    stacked = np.empty(local.shape, np.float64)
+    _to_world(local, matrix, stacked)
+    one_by_one = np.empty(local.shape, np.float64)
+    for k in range(local.shape[0]):
+        _to_world(local[k], matrix, one_by_one[k])
+    assert stacked.tobytes() == one_by_one.tobytes()

@@ -34,7 +34,7 @@ from ..reports.manifest import file_sha256, manifest_name, manifest_text
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.timeline import require_matplotlib, timeline_png
 from ..reports.override import override_layer, override_layer_name, shot_stem
-from ..version import __version__
+from ..version import package_version
 from .collision import METHODS, default_threads, find_contacts
 from .last_contact import last_contacts
 from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
@@ -407,10 +407,11 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
     if options.time_range is not None:
         files[targets.manifest(shot)] = manifest_text(name, file_sha256(shot), options.settings(), span, plan,
-                                                      len(segments), __version__)
+                                                      len(segments), package_version())
     stdout = None
     if targets.json_path is not None or targets.json_to_stdout:
-        json_text = json_report(name, options.settings(), plan, table, exit_code, clock, version=__version__,
+        json_text = json_report(name, options.settings(), plan, table, exit_code, clock,
+                                version=package_version(),
                                 baseline=None if comparison is None else comparison.to_dict(), known=known)
         if targets.json_path is not None:
             files[targets.json_path] = json_text

@@ -5,8 +5,8 @@ Cloth solvers blow up: a vertex shoots off for a frame or two and comes back. Th
 the core's tolerances are local, so the rest of the shot costs and answers the same), but the
 user is told where the cache is broken.
 
-Detection, per deforming mesh and per pair of consecutive samples (numpy over vertices, Python
-over samples only):
+Detection, per deforming mesh and per pair of consecutive samples (numpy over vertices and over
+blocks of steps, Python only over the blocks):
 
 * the mesh's common motion over the step is the per-axis median of its vertices' displacements
   (a rigidly translating mesh has no excess anywhere);
@@ -28,6 +28,10 @@ import numpy as np
 #: A vertex whose motion between two samples, beyond its mesh's common motion, exceeds this many
 #: times the mesh's size (median bounding-box diagonal) is reported as a blow-up.
 BLOWUP_SIZE_FACTOR = 10.0
+
+#: Displacement values (steps x vertices x 3) examined at once: bounds the temporary arrays of a mesh
+#: with many samples (32 MB of float64) while keeping per-step numpy calls out of the Python loop.
+BLOWUP_BLOCK_VALUES = 1 << 22
 
 #: At most this many blown-up vertices are named per mesh; the rest are counted.
 BLOWUP_VERTICES_NAMED_PER_MESH = 5
@@ -58,12 +62,15 @@ def find_blowups(prim: str, times: np.ndarray, points: np.ndarray) -> List[Blowu
     size = mesh_size(points)
     threshold = BLOWUP_SIZE_FACTOR * size
     found: List[Blowup] = []
-    for k in range(points.shape[0] - 1):
-        step = points[k + 1] - points[k]
-        excess = np.linalg.norm(step - np.median(step, axis=0), axis=1)
-        for vertex in np.flatnonzero(excess > threshold):
-            found.append(Blowup(prim=prim, vertex=int(vertex), time_before=float(times[k]),
-                                time_after=float(times[k + 1]), excess=float(excess[vertex]), mesh_size=size))
+    steps_per_block = max(1, BLOWUP_BLOCK_VALUES // (3 * points.shape[1]))
+    for first in range(0, points.shape[0] - 1, steps_per_block):
+        last = min(first + steps_per_block, points.shape[0] - 1)
+        steps = points[first + 1:last + 1] - points[first:last]
+        excess = np.linalg.norm(steps - np.median(steps, axis=1, keepdims=True), axis=2)
+        for k, vertex in zip(*np.nonzero(excess > threshold)):
+            found.append(Blowup(prim=prim, vertex=int(vertex), time_before=float(times[first + k]),
+                                time_after=float(times[first + k + 1]), excess=float(excess[k, vertex]),
+                                mesh_size=size))
     return found
 
 

@@ -314,10 +314,39 @@ def _self_collision(prim) -> bool:
     return True
 
 
+#: The physics schemas the scope reads, found by their registered type names: a stage that uses neither
+#: never imports UsdPhysics (which loads UsdShade and Sdr with it: a tenth of a second of start-up).
+COLLISION_GROUP_TYPE_NAME = "UsdPhysicsCollisionGroup"
+FILTERED_PAIRS_API_TYPE_NAME = "UsdPhysicsFilteredPairsAPI"
+
+
+def _physics_schema_type(type_name: str):
+    """The Tf.Type of a UsdPhysics schema (declared by its plugin, no library loaded); when this USD build
+    has no UsdPhysics plugin, importing the module raises what it always raised."""
+    from pxr import Tf
+
+    schema_type = Tf.Type.FindByName(type_name)
+    if schema_type.isUnknown:
+        from pxr import UsdPhysics  # noqa: F401
+    return schema_type
+
+
+def _has_collision_groups(stage) -> bool:
+    """Whether any prim of the stage, inactive, abstract and instance proxies included, is a collision group
+    (a superset of where UsdPhysics.CollisionGroup.ComputeCollisionGroupTable can find one)."""
+    from pxr import Usd
+
+    group_type = _physics_schema_type(COLLISION_GROUP_TYPE_NAME)
+    every_prim = Usd.TraverseInstanceProxies(Usd.PrimAllPrimsPredicate)
+    return any(prim.IsA(group_type) for prim in Usd.PrimRange.Stage(stage, every_prim))
+
+
 def _group_filtered(stage, paths) -> np.ndarray:
+    count = len(paths)
+    if not _has_collision_groups(stage):
+        return np.zeros((count, count), bool)
     from pxr import UsdPhysics
 
-    count = len(paths)
     table = UsdPhysics.CollisionGroup.ComputeCollisionGroupTable(stage)
     groups = [str(path) for path in table.GetGroups()]
     if not groups or count == 0:
@@ -351,8 +380,9 @@ def _group_filtered(stage, paths) -> np.ndarray:
 
 def read_scene_flags(stage, paths: Sequence[str], time_range: Optional[Tuple[float, float]]) -> SceneFlags:
     """Ask the stage what it says about each mesh over the checked time range (inclusive)."""
-    from pxr import Sdf, Usd, UsdGeom, UsdPhysics
+    from pxr import Sdf, Usd, UsdGeom
 
+    filtered_pairs_api = _physics_schema_type(FILTERED_PAIRS_API_TYPE_NAME)
     paths = list(paths)
     count = len(paths)
     flags = SceneFlags.permissive(count)
@@ -373,11 +403,13 @@ def read_scene_flags(stage, paths: Sequence[str], time_range: Optional[Tuple[flo
         flags.self_collision[index] = _self_collision(prim)
 
     for prim in stage.Traverse():
-        if not prim.HasAPI(UsdPhysics.FilteredPairsAPI):
+        if not prim.HasAPI(filtered_pairs_api):
             continue
         sources = _under(paths, prim.GetPath())
         if sources.size == 0:
             continue
+        from pxr import UsdPhysics
+
         for target in UsdPhysics.FilteredPairsAPI(prim).GetFilteredPairsRel().GetTargets():
             targets = _under(paths, Sdf.Path(target))
             if targets.size:

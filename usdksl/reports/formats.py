@@ -41,7 +41,7 @@ def format_times(times: np.ndarray) -> np.ndarray:
     if times.size == 0:
         return np.zeros(0, dtype=object)
     distinct, inverse = np.unique(times, return_inverse=True)
-    text = np.array([repr(value) for value in distinct.tolist()], dtype=object)
+    text = np.array(list(map(repr, distinct.tolist())), dtype=object)
     return text[inverse.reshape(-1)]
 
 

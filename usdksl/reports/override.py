@@ -267,8 +267,7 @@ def color_sample_times(face_times: np.ndarray, start: float) -> List[float]:
 
 def _color_indices(face_times: np.ndarray, time: float) -> np.ndarray:
     """int32[F]: CONTACT_INDEX for faces whose first contact is at or before ``time``, else CLEAN_INDEX."""
-    touched = ~np.isnan(face_times) & (np.nan_to_num(face_times, nan=np.inf) <= time)
-    return np.where(touched, CONTACT_INDEX, CLEAN_INDEX).astype(np.int32)
+    return np.where(face_times <= time, CONTACT_INDEX, CLEAN_INDEX).astype(np.int32)   # NaN <= time is False
 
 
 def _material_subsets(stage, mesh_path: str) -> List[str]:

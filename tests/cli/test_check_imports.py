@@ -1,0 +1,49 @@
+"""A plain ``usdksl check`` imports only what it uses: start-up is part of every check's time.
+
+The command runs in a fresh interpreter that lists, at exit, the modules it imported. Optional
+machinery (Dask, tqdm, matplotlib, Embree), the other commands' modules, importlib.metadata (only
+``--version``, the JSON report and a farm chunk's manifest need the version) and UsdPhysics (on a stage
+without physics schemas) must not be among them; asking for a JSON report does look the version up.
+"""
+
+import json
+import subprocess
+import sys
+
+#: Modules a plain check must not import (a prefix matches the module and its submodules).
+NOT_IMPORTED_BY_A_PLAIN_CHECK = ("dask", "distributed", "tqdm", "matplotlib", "embreex", "importlib.metadata",
+                                 "usdksl.crosscheck", "usdksl.scale.dask_runner", "usdksl.scale.merge",
+                                 "usdksl.cli.crosscheck", "usdksl.cli.bench", "usdksl.cli.merge", "usdksl.cli.info",
+                                 "pxr.UsdPhysics", "pxr.UsdShade")
+
+LIST_MODULES_AT_EXIT = """
+import atexit, json, sys
+atexit.register(lambda: sys.__stdout__.write(json.dumps(sorted(sys.modules)) + "\\n"))
+sys.argv = ["usdksl"] + sys.argv[1:]
+from usdksl.cli.entry import main
+main()
+"""
+
+
+def _modules_imported_by(*args):
+    completed = subprocess.run([sys.executable, "-c", LIST_MODULES_AT_EXIT, *map(str, args)], capture_output=True,
+                               text=True)
+    assert completed.returncode == 1, completed.stderr   # the quads touch: contacts found
+    return set(json.loads(completed.stdout.strip().splitlines()[-1]))
+
+
+def _matching(modules, prefixes):
+    return sorted(m for m in modules if any(m == p or m.startswith(p + ".") for p in prefixes))
+
+
+def test_a_plain_check_imports_no_optional_machinery(two_quads_shot, tmp_path):
+    modules = _modules_imported_by("check", two_quads_shot, "--out", tmp_path)
+    assert "usdksl._native" in modules and "usdksl.cli.check" in modules
+    assert _matching(modules, NOT_IMPORTED_BY_A_PLAIN_CHECK) == []
+
+
+def test_a_json_report_looks_the_version_up(two_quads_shot, tmp_path):
+    modules = _modules_imported_by("check", two_quads_shot, "--out", tmp_path, "--json", tmp_path / "report.json")
+    assert "importlib.metadata" in modules
+    from usdksl.version import package_version
+    assert json.loads((tmp_path / "report.json").read_text())["version"] == package_version() != ""
