@@ -9,7 +9,7 @@ read; the stage it opens stays open, so the loader that follows reuses its layer
 - per vertex-sample (one vertex at one time sample): the loader's float64 points, the core's copy,
   the merged and the raw flightplans;
 - per triangle and thread (not per sample: the trees and lists exist once per time window, and each
-  thread checks one window at a time): the kinetic trees, separation lists and event queue of KSL,
+  thread checks one window at a time): the step-box trees, separation-list entries and clearance certificates of KSL,
   the swept-volume trees of the other methods;
 - a fixed part: modules imported during the check, the stage, the reports.
 
@@ -40,11 +40,15 @@ MEMORY_LIMIT_VARIABLE = "USDKSL_MEMORY_LIMIT"
 NO_LIMIT = "off"
 
 #: The model, per method: bytes per vertex-sample, and per triangle and thread (each thread checks a
-#: time window with trees and lists of its own), fitted on tablecloth shots (2k to 4k faces, 11 to 51
-#: samples, 1 and 2 threads; benchmarks/memory_model.py --quick printed 27-67 B and 7,790-8,216 B for KSL, 113 B
-#: and 221 B for swept, and a fixed 4.7 to 13.5 MiB), rounded up. Discrete and brute hold what swept holds.
-BYTES_PER_VERTEX_SAMPLE = {"ksl": 85, "swept": 120, "discrete": 120, "brute": 120}
-BYTES_PER_TRIANGLE = {"ksl": 8000, "swept": 450, "discrete": 450, "brute": 450}
+#: time window with trees and lists of its own). KSL is fitted to the step-box separation lists: on
+#: tablecloth shots of 2k to 4k faces (11 to 51 samples, 1 and 2 threads) benchmarks/memory_model.py
+#: --quick --methods ksl printed 117 B and 1,280 B with a fixed 14.5 MiB, but the front grows a little
+#: faster than the cloth (14.6 entries per triangle at 100k faces, 13.6 at 10k) and a 100k-face shot
+#: rose by 592 MiB (2,440 B per triangle with the vertex samples at 117 B): KSL takes 2,500 B, so
+#: the estimate stays above the large shots and within 2x of the small ones. Swept: 113 B and 221 B
+#: and a fixed 4.7 to 13.5 MiB, rounded up. Discrete and brute hold what swept holds.
+BYTES_PER_VERTEX_SAMPLE = {"ksl": 120, "swept": 120, "discrete": 120, "brute": 120}
+BYTES_PER_TRIANGLE = {"ksl": 2500, "swept": 450, "discrete": 450, "brute": 450}
 FIXED_BYTES = 12 * 2 ** 20
 
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*$", re.IGNORECASE)

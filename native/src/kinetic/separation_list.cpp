@@ -272,7 +272,7 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     }
     e.overlapping_leaf = overlapping_leaf;
     e.alive = true;
-    e.step = step_index_;
+    e.step = static_cast<int32_t>(step_index_);
     list.index.emplace(pair_key(a, b), id);
     if (both_leaves(list, a, b)) {
         const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[a];
@@ -292,15 +292,23 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
             cover(e);
         }
     }
+    if (done_with(e)) {
+        remove_entry(id, false);
+        return -1;
+    }
     return id;
 }
 
-void KineticSeparationLists::remove_entry(int32_t id) {
+bool KineticSeparationLists::done_with(const Entry& e) const {
+    return e.inert || (e.permanent && e.overlapping_leaf && e.tested_until >= t_end_);
+}
+
+void KineticSeparationLists::remove_entry(int32_t id, bool keep_tested) {
     Entry& e = entries_[id];
     List& list = lists_[e.list];
     list.index.erase(pair_key(e.a, e.b));
     // A leaf pair keeps what its narrow phase covered, should it come back.
-    if (!e.inert && e.tested_until > kNothingTested && both_leaves(list, e.a, e.b)) {
+    if (keep_tested && !e.inert && e.tested_until > kNothingTested && both_leaves(list, e.a, e.b)) {
         leaf_tested_until_[tester_key(list, e.a, e.b)] = e.tested_until;
     }
     release_clearance_run(e);
@@ -406,7 +414,7 @@ uint64_t KineticSeparationLists::tester_key(const List& list, int32_t a, int32_t
 
 void KineticSeparationLists::update(int32_t id) {
     Entry& e = entries_[id];
-    e.step = step_index_;
+    e.step = static_cast<int32_t>(step_index_);
     if (e.inert) return;  // a settled triangle pair: nothing under it to find
     const List& list = lists_[e.list];
     const int32_t list_id = e.list;
@@ -420,6 +428,7 @@ void KineticSeparationLists::update(int32_t id) {
             release_clearance_run(e);
         } else {
             cover(e);
+            if (done_with(e)) remove_entry(id, false);
         }
         return;
     }
@@ -439,13 +448,14 @@ void KineticSeparationLists::update(int32_t id) {
         return;
     }
     if (!meet(list, e.a, e.b)) {
-        e.quiet_until = quiet_until(list, e.a, e.b);
+        e.quiet_until = static_cast<int32_t>(quiet_until(list, e.a, e.b));
         return;
     }
     ++counters_.bv_overlap_events;
     if (both_leaves(list, e.a, e.b)) {
         e.overlapping_leaf = true;
         cover(e);
+        if (done_with(e)) remove_entry(id, false);
     } else {
         const int32_t a = e.a, b = e.b;
         remove_entry(id);

@@ -3,6 +3,7 @@
 /// @brief Kinetic separation lists (paper section 5): the BVTT front of every
 ///        checked mesh pair (or mesh against itself), kept valid step by step.
 
+#include "usdksl/kinetic/chunked_vector.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
 #include "usdksl/narrow_phase/pair_clearance.hpp"
 #include "usdksl/scene/check_options.hpp"
@@ -69,18 +70,19 @@ private:
         bool self;
         std::unordered_map<uint64_t, int32_t> index;  // (a << 32 | b) -> entry
     };
+    /// Ordered widest first: 48 bytes, and a front holds tens of entries per triangle.
     struct Entry {
+        double tested_until = -1e300;  // end of the last flightplan step the narrow phase covered
         int32_t list = -1;
         int32_t a = -1, b = -1;      // tree nodes (mesh_a's tree, mesh_b's tree)
         int32_t fa = -1, fb = -1;    // BVTT father, -1 for the root pair
+        int32_t step = -1;           // step in which the entry was created or last brought up to date
+        int32_t quiet_until = 0;     // boxes apart: no step before this one can bring them together
+        int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1
         bool overlapping_leaf = false;
         bool inert = false;          // leaf pair whose triangle pair is settled
         bool permanent = false;      // self leaf pair sharing a vertex: its boxes always overlap
         bool alive = false;
-        int64_t step = -1;           // step in which the entry was created or last brought up to date
-        double tested_until = -1e300;  // end of the last flightplan step the narrow phase covered
-        int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1
-        int64_t quiet_until = 0;     // boxes apart: no step before this one can bring them together
     };
     struct NodePair { int32_t a, b; };
 
@@ -108,8 +110,16 @@ private:
     void measure_travel();
 
     // Front maintenance
+    /// Returns the entry, or -1 when the pair is done with at once (see done_with).
     int32_t create_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, bool overlapping_leaf);
-    void remove_entry(int32_t id);
+    /// `keep_tested`: a leaf pair's tested_until is saved for its return.
+    void remove_entry(int32_t id, bool keep_tested = true);
+    /// True when nothing under the entry can ever need work again: a settled
+    /// (inert) leaf pair, or leaves sharing a vertex that are covered to the
+    /// window's end. Such an entry leaves the front: its fathers always meet
+    /// (the leaves' boxes share a vertex) or, when its pair comes back under
+    /// an expanding father, it is settled again at once.
+    bool done_with(const Entry& entry) const;
     void expand(int32_t list, int32_t a, int32_t b);
     void remove_descendants(int32_t list, int32_t a, int32_t b);
     /// Brings one entry created in an earlier step up to the current step.
@@ -144,13 +154,13 @@ private:
 
     std::vector<std::unique_ptr<StepBoxTree>> trees_;  // per mesh, null when unused
     std::vector<List> lists_;
-    std::vector<Entry> entries_;
+    ChunkedVector<Entry, 14> entries_;
     std::vector<int32_t> free_entries_;
     std::vector<double> margin_;  // per list: contact distance of its two meshes
     /// tested_until of leaf pairs whose entry was removed from the front, so a
     /// pair that returns does not run its narrow phase on the same steps again.
     std::unordered_map<uint64_t, double> leaf_tested_until_;
-    std::vector<ClearanceRun> clearance_runs_;
+    ChunkedVector<ClearanceRun, 11> clearance_runs_;
     std::vector<int32_t> free_clearance_runs_;
 };
 
