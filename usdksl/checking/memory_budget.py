@@ -41,11 +41,13 @@ NO_LIMIT = "off"
 
 #: The model, per method: bytes per vertex-sample, and per triangle and thread (each thread checks a
 #: time window with trees and lists of its own), fitted on tablecloth shots (2k to 4k faces, 11 to 51
-#: samples, 1 and 2 threads; benchmarks/memory_model.py --quick printed 27-67 B and 7,790-8,216 B for KSL, 113 B
-#: and 221 B for swept, and a fixed 4.7 to 13.5 MiB), rounded up. Discrete and brute hold what swept holds.
-BYTES_PER_VERTEX_SAMPLE = {"ksl": 85, "swept": 120, "discrete": 120, "brute": 120}
-BYTES_PER_TRIANGLE = {"ksl": 8000, "swept": 450, "discrete": 450, "brute": 450}
-FIXED_BYTES = 12 * 2 ** 20
+#: samples, 1 and 2 threads; with the step-batched KSL core and UsdPhysics no longer imported during a
+#: check of a stage without physics schemas, benchmarks/memory_model.py --quick fitted KSL at 198 B per
+#: vertex sample and 2,274 B per triangle and thread, swept at 127 B and 294 B, and a fixed 1.5 to 5.5 MiB),
+#: rounded up so that every measured shot lies between 1x and 2x. Discrete and brute hold what swept holds.
+BYTES_PER_VERTEX_SAMPLE = {"ksl": 250, "swept": 120, "discrete": 120, "brute": 120}
+BYTES_PER_TRIANGLE = {"ksl": 2600, "swept": 450, "discrete": 450, "brute": 450}
+FIXED_BYTES = 8 * 2 ** 20
 
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*$", re.IGNORECASE)
 _UNITS = {"": 1, "k": 2 ** 10, "m": 2 ** 20, "g": 2 ** 30, "t": 2 ** 40}
