@@ -87,13 +87,13 @@ def test_refusal_is_one_line_with_need_room_and_advice(shots, tmp_path):
     out = tmp_path / "out"
     # one thread: the trees fit, the samples do not, so time chunks are the advice
     result = CliRunner().invoke(main, ["check", str(shots["large"]), "--out", str(out), "--threads", "1",
-                                       "--memory-limit", "80M"])
+                                       "--memory-limit", "60M"])
     assert result.exit_code == 2, result.output
     lines = result.stderr.splitlines()
     assert len(lines) == 1, lines
     line = lines[0]
     assert line.startswith(f"usdksl: error: {shots['large']}: needs about ")
-    assert "MiB of memory" in line and "but 80.0 MiB is available" in line
+    assert "MiB of memory" in line and "but 60.0 MiB is available" in line
     assert "--time-range" in line and "usdksl merge" in line and "--prims/--exclude" in line
     assert not out.exists()
 

@@ -40,16 +40,16 @@ MEMORY_LIMIT_VARIABLE = "USDKSL_MEMORY_LIMIT"
 NO_LIMIT = "off"
 
 #: The model, per method: bytes per vertex-sample, and per triangle and thread (each thread checks a
-#: time window with trees and lists of its own). KSL is fitted to the step-box separation lists: on
-#: tablecloth shots of 2k to 4k faces (11 to 51 samples, 1 and 2 threads) benchmarks/memory_model.py
-#: --quick --methods ksl printed 117 B and 1,280 B with a fixed 14.5 MiB, but the front grows a little
-#: faster than the cloth (14.6 entries per triangle at 100k faces, 13.6 at 10k) and a 100k-face shot
-#: rose by 592 MiB (2,440 B per triangle with the vertex samples at 117 B): KSL takes 2,500 B, so
-#: the estimate stays above the large shots and within 2x of the small ones. Swept: 113 B and 221 B
-#: and a fixed 4.7 to 13.5 MiB, rounded up. Discrete and brute hold what swept holds.
-BYTES_PER_VERTEX_SAMPLE = {"ksl": 120, "swept": 120, "discrete": 120, "brute": 120}
-BYTES_PER_TRIANGLE = {"ksl": 2500, "swept": 450, "discrete": 450, "brute": 450}
-FIXED_BYTES = 12 * 2 ** 20
+#: time window with trees and lists of its own), fitted on tablecloth shots (2k to 4k faces, 11 to 51
+#: samples, 1 and 2 threads; with the step-batched KSL core and UsdPhysics no longer imported during a
+#: check of a stage without physics schemas, benchmarks/memory_model.py --quick fitted KSL at 198 B per
+#: vertex sample and 2,274 B per triangle and thread, swept at 127 B and 294 B, and a fixed 1.5 to 5.5 MiB),
+#: rounded up so that every measured shot lies between 1x and 2x. Discrete and brute hold what swept holds.
+#: On a 100k-face tablecloth (benchmarks/scale.py) KSL rose by 2,440 B per triangle with the vertex
+#: samples at 117 B: the front grows a little faster than the cloth, and 2,600 B stays above it.
+BYTES_PER_VERTEX_SAMPLE = {"ksl": 250, "swept": 120, "discrete": 120, "brute": 120}
+BYTES_PER_TRIANGLE = {"ksl": 2600, "swept": 450, "discrete": 450, "brute": 450}
+FIXED_BYTES = 8 * 2 ** 20
 
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*$", re.IGNORECASE)
 _UNITS = {"": 1, "k": 2 ** 10, "m": 2 ** 20, "g": 2 ** 30, "t": 2 ** 40}
