@@ -26,7 +26,8 @@ main()
 
 
 def _modules_imported_by(*args):
-    completed = subprocess.run([sys.executable, "-c", LIST_MODULES_AT_EXIT, *map(str, args)], capture_output=True,
+    # -P: the checkout (the working folder) must not shadow the installed package.
+    completed = subprocess.run([sys.executable, "-P", "-c", LIST_MODULES_AT_EXIT, *map(str, args)], capture_output=True,
                                text=True)
     assert completed.returncode == 1, completed.stderr   # the quads touch: contacts found
     return set(json.loads(completed.stdout.strip().splitlines()[-1]))
