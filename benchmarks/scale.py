@@ -4,8 +4,9 @@
     python benchmarks/scale.py --faces 10000 100000 --threads 1 --markdown benchmarks/results/scale.md
 
 Each shot is made once by ``samples/generate.py tablecloth --faces N --keyframes 10
---samples-per-keyframe 1`` (10 samples, into samples/generated/) and checked by the ``usdksl check``
-command end to end, one process per shot, so its peak resident memory is its own. Printed per shot:
+--samples-per-keyframe 1`` (10 samples, into samples/generated/) and checked end to end as
+``usdksl check`` does it (the library's check_shot and its files written, in a process of its own, so its
+peak resident memory is its own; the core's work counters are recorded too). Printed per shot:
 wall and CPU seconds, CPU microseconds per face and its ratio to the smallest shot (issue 19's target:
 at most 2x at 1M faces), face pairs in contact per face (the answer grows with the cloth's resolution:
 finer wrinkles touch more), peak memory, and bytes per triangle sample above :data:`MEMORY_BASE_MB`
@@ -38,6 +39,10 @@ MEMORY_BASE_MB = 256
 #: Most bytes of peak resident memory per triangle sample (triangles x samples of every mesh, static
 #: ones included) above MEMORY_BASE_MB, single thread (each thread's time window has its own trees).
 MEMORY_BUDGET_PER_TRIANGLE_SAMPLE = 1024
+#: Counters shown per face: box tests and overlaps of the separation lists, narrow-phase calls,
+#: primitive distance queries, triangle pairs confirmed on raw samples.
+PER_FACE_COUNTERS = ("bv_tests", "bv_overlap_events", "polygons_collide_events", "narrow_phase_tests",
+                     "primitive_queries", "raw_confirmations")
 #: Largest CPU time per face at the biggest shot, relative to the smallest (issue 19's target).
 TIME_PER_FACE_TARGET = 2.0
 
@@ -76,24 +81,37 @@ def shot_size(path: str) -> Dict[str, int]:
             "triangle_samples": int(sum(len(mesh.triangles) * len(mesh.times) for mesh in shot.meshes))}
 
 
-def _usdksl_executable() -> str:
-    candidate = os.path.join(os.path.dirname(sys.executable), "usdksl")
-    return candidate if os.path.exists(candidate) else "usdksl"
+#: What ``usdksl check SHOT --out OUT [--threads N]`` runs (the library's check_shot, then its files
+#: written), with the core's work counters dumped as JSON to COUNTERS: events and narrow-phase tests per
+#: face say why time per face grows. argv: SHOT OUT COUNTERS THREADS (0: all cores).
+_CHECK = (
+    "import json, sys\n"
+    "from usdksl.checking.pipeline import CheckOptions, check_shot, output_targets\n"
+    "from usdksl.reports.output import write_files\n"
+    "shot, out, counters_path, threads = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])\n"
+    "result = check_shot(shot, CheckOptions(threads=threads or None), output_targets(shot, out))\n"
+    "write_files(result.files)\n"
+    "json.dump(result.counters, open(counters_path, 'w'))\n"
+    "sys.exit(result.exit_code)\n"
+)
 
 
 def measure(path: str, threads: Optional[int], budget_s: float) -> Dict:
     with tempfile.TemporaryDirectory(prefix="usdksl-scale-") as out_dir:
-        command = [_usdksl_executable(), "check", path, "--out", out_dir, "-q"]
-        if threads:
-            command += ["--threads", str(threads)]
+        counters_path = os.path.join(out_dir, "counters.json")
+        # -P: the checkout's folder must not shadow the installed usdksl
+        command = [sys.executable, "-P", "-c", _CHECK, path, out_dir, counters_path, str(threads or 0)]
         started = time.perf_counter()
         try:
-            completed = subprocess.run([sys.executable, "-c", _MEASURE] + command, capture_output=True,
+            completed = subprocess.run([sys.executable, "-P", "-c", _MEASURE] + command, capture_output=True,
                                        text=True, timeout=budget_s)
         except subprocess.TimeoutExpired:
             return {"skipped": f"over the {budget_s:g} s budget"}
         wall = time.perf_counter() - started
         record = json.loads(completed.stdout.strip().splitlines()[-1])
+        if os.path.exists(counters_path):
+            with open(counters_path) as stream:
+                record["counters"] = json.load(stream)
         contacts = [name for name in os.listdir(out_dir) if name.endswith(".contacts.csv")]
         if contacts:
             with open(os.path.join(out_dir, contacts[0])) as stream:
@@ -125,6 +143,14 @@ def render(rows: List[Dict], threads: Optional[int]) -> str:
                      f"{row['cpu_s']:.1f} | {per_face:.1f} | {ratio:.2f} | {row['face_pairs'] / row['faces']:.2f} | "
                      f"{row['peak_kb'] / 1024:.0f} | "
                      f"{bytes_per:.0f} | {'yes' if bytes_per <= MEMORY_BUDGET_PER_TRIANGLE_SAMPLE else 'NO'} |")
+    counted = [row for row in rows if row.get("counters")]
+    if counted:
+        lines += ["", "Work of the core per face (counters of the check):", "",
+                  "| faces | " + " | ".join(PER_FACE_COUNTERS) + " |",
+                  "|---|" + "---|" * len(PER_FACE_COUNTERS)]
+        for row in counted:
+            lines.append(f"| {row['faces']} | " + " | ".join(
+                f"{row['counters'].get(name, 0) / row['faces']:.1f}" for name in PER_FACE_COUNTERS) + " |")
     lines += ["", f"Targets: CPU per face at the largest shot <= {TIME_PER_FACE_TARGET:g}x the smallest's; peak "
               f"memory <= {MEMORY_BASE_MB} MB + {MEMORY_BUDGET_PER_TRIANGLE_SAMPLE} B per triangle sample."]
     return "\n".join(lines)
