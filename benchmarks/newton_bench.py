@@ -11,7 +11,11 @@ Methods (each in a fresh interpreter, one after the other, killed past ``--budge
   layer), timed from outside; its contacts CSV is what a user gets.
 - ``ipctk``: benchmarks/peer_ipctk.py's all-first-contacts pipeline with ipctk's default CCD settings
   (the same answer as check: every face pair and its first-contact time), arrays prepared inside the clock.
-- ``ipctk-sweep``: ipctk's earliest-contact sweep (compute_collision_free_stepsize per interval).
+- ``ipctk-sweep``: ipctk's earliest-contact sweep (compute_collision_free_stepsize per interval), the shot
+  already loaded like the other in-process methods.
+- ``ipctk-sweep-e2e``: the same sweep end to end as a user runs it, ``python benchmarks/peer_ipctk.py CACHE
+  --mode sweep`` (interpreter start, imports, the same USD loader, the sweep), timed from outside like
+  ``check``: the like-for-like peer of ``check``.
 - ``tight``: the same pipeline at Tight-Inclusion tolerance 1e-9: the reference for every reported time.
 
 Reported per cache: wall and CPU seconds per method, ksl/swept and check/ipctk ratios (measured in this
@@ -46,7 +50,7 @@ import peer_ipctk  # noqa: E402
 RESULTS = os.path.join(HERE, "results")
 DEFAULT_JSON = os.path.join(RESULTS, "newton.json")
 DEFAULT_MARKDOWN = os.path.join(RESULTS, "newton.md")
-METHODS = ("ksl", "swept", "discrete", "check", "ipctk", "ipctk-sweep", "tight")
+METHODS = ("ksl", "swept", "discrete", "check", "ipctk", "ipctk-sweep", "ipctk-sweep-e2e", "tight")
 USDKSL_METHODS = ("ksl", "swept", "discrete")
 #: CPU-time budget of one method on one cache (seconds, all its threads; RLIMIT_CPU): a method past it is
 #: killed and reported as over budget. CPU time, not wall time, because the shared machine can give a
@@ -70,21 +74,34 @@ def _save_faces(path: str, paths: List[str], time_, mesh_a, face_a, mesh_b, face
              mesh_b=np.asarray(mesh_b, np.int64), face_b=np.asarray(face_b, np.int64))
 
 
+def _timed_process(command: List[str], record: Dict) -> subprocess.CompletedProcess:
+    """Runs ``command`` and records its wall seconds and CPU seconds (all its threads) in ``record``."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    completed = subprocess.run(command, capture_output=True, text=True)
+    record["wall_s"] = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    record["cpu_s"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return completed
+
+
 def worker(method: str, shot_path: str, out_prefix: str) -> Dict:
     """Run one method on one shot in this fresh process; contacts go to ``out_prefix``.npz."""
     record: Dict = {"method": method}
     if method in ("check",) + USDKSL_METHODS:   # both use the default: every core this process may use
         from usdksl.checking.collision import default_threads
         record["threads"] = default_threads()
+    if method == "ipctk-sweep-e2e":
+        completed = _timed_process([sys.executable, os.path.join(HERE, "peer_ipctk.py"), shot_path,
+                                    "--mode", "sweep"], record)
+        if completed.returncode != 0:
+            raise RuntimeError(f"peer_ipctk.py --mode sweep exited {completed.returncode}: "
+                               f"{completed.stderr.strip()[-300:]}")
+        record["summary"] = completed.stdout.strip().splitlines()[-1] if completed.stdout.strip() else ""
+        return record
     if method == "check":
         with tempfile.TemporaryDirectory(prefix="newton-bench-") as out_dir:
-            command = [_usdksl_executable(), "check", shot_path, "--out", out_dir]
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
-            start = time.perf_counter()
-            completed = subprocess.run(command, capture_output=True, text=True)
-            record["wall_s"] = time.perf_counter() - start
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)
-            record["cpu_s"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+            completed = _timed_process([_usdksl_executable(), "check", shot_path, "--out", out_dir], record)
             record["exit_code"] = completed.returncode
             record["summary"] = completed.stderr.strip().splitlines()[-1] if completed.stderr.strip() else ""
             if completed.returncode not in (0, 1):
@@ -261,6 +278,8 @@ def ratios(records: Dict[str, Dict]) -> Dict[str, Optional[float]]:
            "check/ipctk wall": ratio("check", "ipctk"), "check/ipctk cpu": ratio("check", "ipctk", "cpu_s"),
            "check/ipctk-sweep wall": ratio("check", "ipctk-sweep"),
            "check/ipctk-sweep cpu": ratio("check", "ipctk-sweep", "cpu_s"),
+           "check/ipctk-sweep-e2e wall": ratio("check", "ipctk-sweep-e2e"),
+           "check/ipctk-sweep-e2e cpu": ratio("check", "ipctk-sweep-e2e", "cpu_s"),
            "ksl/ipctk wall": ratio("ksl", "ipctk")}
     for method in USDKSL_METHODS:
         record = records.get(method, {})
@@ -297,7 +316,9 @@ def markdown(entries: List[Dict], command: str) -> str:
              f"{MACHINE_NOTE}. Wall seconds, CPU seconds in parentheses; `check` is the `usdksl check` command "
              "end to end (a separate process), the other usdksl methods are `usdksl.find_contacts` on "
              "check's planned pairs with the shot already loaded; `ipctk` is benchmarks/peer_ipctk.py's "
-             "all-first-contacts pipeline (same answer as check), `ipctk-sweep` its earliest-contact sweep, "
+             "all-first-contacts pipeline (same answer as check), `ipctk-sweep` its earliest-contact sweep (shot "
+             "already loaded), `ipctk-sweep-e2e` that sweep end to end in its own process like check "
+             "(`python benchmarks/peer_ipctk.py CACHE --mode sweep`: interpreter, imports, the same USD loader), "
              "`tight` the Tight-Inclusion 1e-9 reference. Produced by benchmarks/newton_bench.py; raw numbers in "
              "newton.json.", "",
              "Ratios are given for wall time and, in parentheses, CPU time (CPU seconds add up all threads: ipctk "
@@ -309,10 +330,10 @@ def markdown(entries: List[Dict], command: str) -> str:
              f"{peer_ipctk.AGREEMENT_TIME_CODES:g} time codes of it (of the pairs both report), largest early and "
              "late error (time codes), reported pairs the reference never sees touch, reference pairs check "
              "misses.", "",
-             "| cache | triangles x samples | ksl | swept | discrete | check | ipctk | ipctk-sweep | tight | "
-             "ksl/swept | check/ipctk | check/ipctk-sweep | ksl us/test | swept us/test | load avg | "
+             "| cache | triangles x samples | ksl | swept | discrete | check | ipctk | ipctk-sweep | ipctk-sweep-e2e | "
+             "tight | ksl/swept | check/ipctk | check/ipctk-sweep | check/ipctk-sweep-e2e | ksl us/test | swept us/test | load avg | "
              "check: time error vs tight reference |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for entry in entries:
         shot, records, r = entry.get("shot", {}), entry["methods"], entry["ratios"]
         size = f"{shot.get('triangles', '?')} x {shot.get('samples', '?')}"
@@ -320,7 +341,7 @@ def markdown(entries: List[Dict], command: str) -> str:
         fmt = lambda x: "-" if x is None else f"{x:g}"  # noqa: E731
         both = lambda name: f"{fmt(r.get(name + ' wall'))} ({fmt(r.get(name + ' cpu'))})"  # noqa: E731
         lines.append(f"| {entry['name']} | {size} | " + " | ".join(cells) + f" | {both('ksl/swept')} | "
-                     f"{both('check/ipctk')} | {both('check/ipctk-sweep')} | {fmt(r.get('ksl us/narrow-phase test'))} | "
+                     f"{both('check/ipctk')} | {both('check/ipctk-sweep')} | {both('check/ipctk-sweep-e2e')} | {fmt(r.get('ksl us/narrow-phase test'))} | "
                      f"{fmt(r.get('swept us/narrow-phase test'))} | {entry['load_average_at_start'][0]:g} | "
                      f"{_time_error(records.get('check', {}))} |")
     lines += ["", "Caches (recording metadata from each cache's sidecar JSON / customLayerData):", "",
