@@ -224,10 +224,12 @@ def byte_compile_usdksl() -> None:
     process would otherwise compile its own modules again, about 0.1 s that no installed copy pays and the
     in-process peer methods never see."""
     import compileall
-    import usdksl
-    import usdksl.cli
+    import importlib.util
 
-    for folder in list(usdksl.__path__) + list(usdksl.cli.__path__) + [HERE]:
+    # located, not imported: only the command line imports the command line package
+    folders = [location for package in ("usdksl", "usdksl.cli")
+               for location in importlib.util.find_spec(package).submodule_search_locations]
+    for folder in folders + [HERE]:
         compileall.compile_dir(folder, quiet=1)
 
 
