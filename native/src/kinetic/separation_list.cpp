@@ -1,5 +1,7 @@
 #include "usdksl/kinetic/separation_list.hpp"
 
+#include "usdksl/geometry/exact_geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,6 +19,21 @@ constexpr double kNothingTested = -1e300;
 /// overlap may miss each other and still count as meeting: covers rounding
 /// of the crossing fractions, so rounding never hides a meeting.
 constexpr double STEP_MEETING_SLACK = 1e-9;
+
+/// True when an edge of triangle A that shares no vertex with B (both of one
+/// mesh) meets closed triangle B: the piercing the static test reports, which
+/// no distance between primitive pairs shows.
+bool pierces(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
+             const std::array<Vec3, 3>& b) {
+    const auto in_b = [&](int32_t v) { return v == ids_b[0] || v == ids_b[1] || v == ids_b[2]; };
+    for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3;
+        if (!in_b(ids_a[i]) && !in_b(ids_a[i1]) && segment_intersects_triangle(a[i], a[i1], b[0], b[1], b[2])) {
+            return true;
+        }
+    }
+    return false;
+}
 
 uint64_t pair_key(int32_t a, int32_t b) {
     return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
@@ -286,7 +303,9 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
         if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b)) {
             e.inert = true;
         } else if (overlapping_leaf) {
-            if (initializing_ && tester_.test_static(list.mesh_a, tri_a, list.mesh_b, tri_b, t_begin_)) {
+            // Leaves sharing a vertex take their static test with their first step.
+            if (initializing_ && !e.permanent && !clear_at_begin(e) &&
+                tester_.test_static(list.mesh_a, tri_a, list.mesh_b, tri_b, t_begin_)) {
                 e.inert = true;
             }
             cover(e);
@@ -362,6 +381,7 @@ void KineticSeparationLists::cover(Entry& e) {
             pair.tri_a = tri_a;
             pair.tri_b = tri_b;
             pair.backoff = 1;
+            pair.static_pending = initializing_;
             shared_vertex_pairs_.push_back(pair);
         }
         return;
@@ -384,6 +404,38 @@ void KineticSeparationLists::cover(Entry& e) {
         release_clearance_run(e);
     }
     worked();
+}
+
+bool KineticSeparationLists::clear_at_begin(Entry& e) {
+    const List& list = lists_[e.list];
+    int32_t mesh_a = list.mesh_a, mesh_b = list.mesh_b;
+    int32_t tri_a = trees_[mesh_a]->topology().triangle[e.a], tri_b = trees_[mesh_b]->topology().triangle[e.b];
+    // The order test_steps() carries the certificate in (TrianglePairTester's canonical order).
+    if (mesh_a > mesh_b || (mesh_a == mesh_b && tri_a > tri_b)) {
+        std::swap(mesh_a, mesh_b);
+        std::swap(tri_a, tri_b);
+    }
+    const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
+    const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
+    const auto corners = [](const double* points, const Triangle& ids) {
+        std::array<Vec3, 3> at;
+        for (int i = 0; i < 3; ++i) at[i] = Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(ids[i]));
+        return at;
+    };
+    const std::array<Vec3, 3> a = corners(trees_[mesh_a]->begin_points(), ids_a);
+    const std::array<Vec3, 3> b = corners(trees_[mesh_b]->begin_points(), ids_b);
+    ClearanceRun& run = clearance_run(e);
+    run.clearance.start(ids_a, a, ids_b, b, mesh_a == mesh_b, margin_of(list), tester_.settings().tolerance);
+    // The static test also reports triangles that pierce each other without
+    // any primitive pair within reach: only the plane proof rules that out.
+    if (!run.clearance.holds_at(a, b) || !run.clearance.separated_by_plane()) {
+        run = ClearanceRun{};
+        return false;
+    }
+    // Started at the window's begin: the narrow phase's first call goes on with it.
+    run.certified = run.fresh = true;
+    run.valid_at = t_begin_;
+    return true;
 }
 
 bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
@@ -411,6 +463,19 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     // at once backs off for a few steps; one that ran out after clearing
     // steps is restarted at this step's begin.
     if (!pair.certified && pair.wait == 0) start_certificate();
+    if (pair.static_pending) {
+        // The window's first step: a certificate that holds at its begin
+        // proves what the static test would find (no contact there).
+        pair.static_pending = false;
+        const std::array<Vec3, 3> a0 = corners(tree.begin_points(), ids_a);
+        const std::array<Vec3, 3> b0 = corners(tree.begin_points(), ids_b);
+        const bool clear = pair.certified && pair.clearance.holds_at(a0, b0) && !pierces(ids_a, a0, ids_b, b0) &&
+                           !pierces(ids_b, b0, ids_a, a0);
+        if (!clear && tester_.test_static(list.mesh_a, pair.tri_a, list.mesh_b, pair.tri_b, t_begin_)) {
+            pair.static_hit = true;
+            return false;
+        }
+    }
     if (!pair.certified) {
         if (pair.wait > 0) --pair.wait;
         return false;
@@ -444,6 +509,8 @@ void KineticSeparationLists::step_shared_vertex_pairs() {
             // a breakpoint of the pair, which is a step's end too.
             if (pair.tested_until <= step_begin_ && clears_step(pair)) {
                 pair.tested_until = step_end_;
+            } else if (pair.static_hit) {
+                hit = true;
             } else {
                 const List& list = lists_[pair.list];
                 ++counters_.polygons_collide_events;

@@ -98,6 +98,8 @@ private:
         int8_t backoff;  // steps to wait after the next one fails at once
         bool certified;  // a certificate is running
         bool fresh;      // it has not cleared a step yet
+        bool static_pending;  // created at the window's begin: its static test is still to come
+        bool static_hit;      // the static test found contact at the window's begin
     };
 
     // BVTT structure
@@ -144,6 +146,11 @@ private:
     /// Brings every pair of shared_vertex_pairs_ to the current step's end:
     /// its certificate clears the step, or the narrow phase tests it.
     void step_shared_vertex_pairs();
+    /// At the window's begin, for an overlapping leaf pair: starts its
+    /// clearance run there and returns true when that certificate holds at
+    /// once, which proves what the static test would answer (no contact);
+    /// otherwise leaves the run as new and returns false.
+    bool clear_at_begin(Entry& entry);
     /// True when the pair's certificate (started, restarted or backing off
     /// as test_steps() schedules a ClearanceRun) clears the current step.
     bool clears_step(SharedVertexPair& pair);

@@ -82,6 +82,11 @@ public:
     ///        while no tested primitive pair can have come within reach.
     bool holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
+    /// @brief True while the separating plane proof holds (every vertex of B
+    ///        beyond the reach on its side of the plane, A on the other): the
+    ///        closed triangles then neither touch nor pierce each other.
+    bool separated_by_plane() const { return plane_holds_; }
+
 private:
     /// Contact distance plus the narrow phase's margin for the six vertices'
     /// size and rounding, at positions a and b.
