@@ -1,5 +1,7 @@
 #include "usdksl/kinetic/separation_list.hpp"
 
+#include "usdksl/geometry/exact_geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,6 +19,21 @@ constexpr double kNothingTested = -1e300;
 /// overlap may miss each other and still count as meeting: covers rounding
 /// of the crossing fractions, so rounding never hides a meeting.
 constexpr double STEP_MEETING_SLACK = 1e-9;
+
+/// True when an edge of triangle A that shares no vertex with B (both of one
+/// mesh) meets closed triangle B: the piercing the static test reports, which
+/// no distance between primitive pairs shows.
+bool pierces(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
+             const std::array<Vec3, 3>& b) {
+    const auto in_b = [&](int32_t v) { return v == ids_b[0] || v == ids_b[1] || v == ids_b[2]; };
+    for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3;
+        if (!in_b(ids_a[i]) && !in_b(ids_a[i1]) && segment_intersects_triangle(a[i], a[i1], b[0], b[1], b[2])) {
+            return true;
+        }
+    }
+    return false;
+}
 
 uint64_t pair_key(int32_t a, int32_t b) {
     return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
@@ -286,7 +303,9 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
         if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b)) {
             e.inert = true;
         } else if (overlapping_leaf) {
-            if (initializing_ && tester_.test_static(list.mesh_a, tri_a, list.mesh_b, tri_b, t_begin_)) {
+            // Leaves sharing a vertex take their static test with their first step.
+            if (initializing_ && !e.permanent && !clear_at_begin(e) &&
+                tester_.test_static(list.mesh_a, tri_a, list.mesh_b, tri_b, t_begin_)) {
                 e.inert = true;
             }
             cover(e);
@@ -300,7 +319,7 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
 }
 
 bool KineticSeparationLists::done_with(const Entry& e) const {
-    return e.inert || (e.permanent && e.overlapping_leaf && e.tested_until >= t_end_);
+    return e.inert || (e.permanent && e.overlapping_leaf);
 }
 
 void KineticSeparationLists::remove_entry(int32_t id, bool keep_tested) {
@@ -348,12 +367,27 @@ void KineticSeparationLists::remove_descendants(int32_t list_id, int32_t a, int3
 
 void KineticSeparationLists::cover(Entry& e) {
     if (e.inert) return;
-    // Leaves that share a vertex never part: their whole shot is covered at once.
-    const double until = e.permanent ? t_end_ : step_end_;
-    if (e.tested_until >= until) return;
     const List& list = lists_[e.list];
     const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[e.a];
     const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[e.b];
+    if (e.permanent) {
+        // Leaves that share a vertex never part: they follow every step from
+        // now on, outside the front (done_with). Their fathers always meet,
+        // so the pair never comes back to be handed over twice.
+        if (e.tested_until < t_end_) {
+            SharedVertexPair pair{};
+            pair.tested_until = e.tested_until;
+            pair.list = e.list;
+            pair.tri_a = tri_a;
+            pair.tri_b = tri_b;
+            pair.backoff = 1;
+            pair.static_pending = initializing_;
+            shared_vertex_pairs_.push_back(pair);
+        }
+        return;
+    }
+    const double until = step_end_;
+    if (e.tested_until >= until) return;
     // Only this entry tests its triangle pair, and a settled pair became
     // inert when the entry was created or when it hit.
     ++counters_.polygons_collide_events;
@@ -362,14 +396,136 @@ void KineticSeparationLists::cover(Entry& e) {
     // only means those steps were covered in vain).
     const size_t ahead = std::min(static_cast<size_t>(step_index_) + 1 + LEAF_COVER_AHEAD_STEPS, times_.size() - 1);
     const StepRun run = tester_.test_steps(list.mesh_a, tri_a, list.mesh_b, tri_b,
-                                           std::max(step_begin_, e.tested_until), until, true,
-                                           e.permanent ? nullptr : &clearance_run(e), times_[ahead]);
+                                           std::max(step_begin_, e.tested_until), until, true, &clearance_run(e),
+                                           times_[ahead]);
     e.tested_until = run.tested_until;
     if (run.hit) {
         e.inert = true;
         release_clearance_run(e);
     }
     worked();
+}
+
+bool KineticSeparationLists::clear_at_begin(Entry& e) {
+    const List& list = lists_[e.list];
+    int32_t mesh_a = list.mesh_a, mesh_b = list.mesh_b;
+    int32_t tri_a = trees_[mesh_a]->topology().triangle[e.a], tri_b = trees_[mesh_b]->topology().triangle[e.b];
+    // The order test_steps() carries the certificate in (TrianglePairTester's canonical order).
+    if (mesh_a > mesh_b || (mesh_a == mesh_b && tri_a > tri_b)) {
+        std::swap(mesh_a, mesh_b);
+        std::swap(tri_a, tri_b);
+    }
+    const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
+    const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
+    const auto corners = [](const double* points, const Triangle& ids) {
+        std::array<Vec3, 3> at;
+        for (int i = 0; i < 3; ++i) at[i] = Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(ids[i]));
+        return at;
+    };
+    const std::array<Vec3, 3> a = corners(trees_[mesh_a]->begin_points(), ids_a);
+    const std::array<Vec3, 3> b = corners(trees_[mesh_b]->begin_points(), ids_b);
+    ClearanceRun& run = clearance_run(e);
+    run.clearance.start(ids_a, a, ids_b, b, mesh_a == mesh_b, margin_of(list), tester_.settings().tolerance);
+    // The static test also reports triangles that pierce each other without
+    // any primitive pair within reach: only the plane proof rules that out.
+    if (!run.clearance.holds_at(a, b) || !run.clearance.separated_by_plane()) {
+        run = ClearanceRun{};
+        return false;
+    }
+    // Started at the window's begin: the narrow phase's first call goes on with it.
+    run.certified = run.fresh = true;
+    run.valid_at = t_begin_;
+    return true;
+}
+
+bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
+    const List& list = lists_[pair.list];
+    const StepBoxTree& tree = *trees_[list.mesh_a];
+    const std::vector<Triangle>& triangles = scene_.meshes[list.mesh_a].triangles;
+    const Triangle& ids_a = triangles[pair.tri_a];
+    const Triangle& ids_b = triangles[pair.tri_b];
+    const auto corners = [](const double* points, const Triangle& ids) {
+        std::array<Vec3, 3> at;
+        for (int i = 0; i < 3; ++i) at[i] = Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(ids[i]));
+        return at;
+    };
+    const auto start_certificate = [&]() {
+        const Flightplans& plans = scene_.plans[list.mesh_a];
+        double magnitude = 0.0;
+        for (const Triangle* ids : {&ids_a, &ids_b}) {
+            for (int32_t v : *ids) magnitude = std::max(magnitude, plans.vertex_magnitude(v));
+        }
+        pair.clearance.start(ids_a, corners(tree.begin_points(), ids_a), ids_b, corners(tree.begin_points(), ids_b),
+                             margin_of(list), tester_.settings().tolerance, magnitude);
+        pair.certified = pair.fresh = true;
+    };
+    // The schedule of TrianglePairTester::test_steps: a certificate that fails
+    // at once backs off for a few steps; one that ran out after clearing
+    // steps is restarted at this step's begin.
+    if (!pair.certified && pair.wait == 0) start_certificate();
+    if (pair.static_pending) {
+        // The window's first step: a certificate that holds at its begin
+        // proves what the static test would find (no contact there).
+        pair.static_pending = false;
+        const std::array<Vec3, 3> a0 = corners(tree.begin_points(), ids_a);
+        const std::array<Vec3, 3> b0 = corners(tree.begin_points(), ids_b);
+        const bool clear = pair.certified && pair.clearance.holds_at(a0, b0) && !pierces(ids_a, a0, ids_b, b0) &&
+                           !pierces(ids_b, b0, ids_a, a0);
+        if (!clear && tester_.test_static(list.mesh_a, pair.tri_a, list.mesh_b, pair.tri_b, t_begin_)) {
+            pair.static_hit = true;
+            return false;
+        }
+    }
+    if (!pair.certified) {
+        if (pair.wait > 0) --pair.wait;
+        return false;
+    }
+    const std::array<Vec3, 3> a1 = corners(tree.end_points(), ids_a);
+    const std::array<Vec3, 3> b1 = corners(tree.end_points(), ids_b);
+    bool cleared = pair.clearance.holds_at(a1, b1);
+    if (!cleared && !pair.fresh) {
+        start_certificate();
+        cleared = pair.clearance.holds_at(a1, b1);
+    }
+    if (cleared) {
+        pair.fresh = false;
+        pair.backoff = 1;
+        ++counters_.cleared_steps;
+    } else {
+        pair.certified = false;
+        pair.wait = pair.backoff;
+        pair.backoff = static_cast<int8_t>(std::min(2 * pair.backoff, CLEARANCE_MAX_BACKOFF_STEPS));
+    }
+    return cleared;
+}
+
+void KineticSeparationLists::step_shared_vertex_pairs() {
+    size_t kept = 0;
+    for (size_t i = 0; i < shared_vertex_pairs_.size(); ++i) {
+        SharedVertexPair& pair = shared_vertex_pairs_[i];
+        bool hit = false;
+        if (pair.tested_until < step_end_) {
+            // The certificate follows whole steps; a narrow-phase run ends on
+            // a breakpoint of the pair, which is a step's end too.
+            if (pair.tested_until <= step_begin_ && clears_step(pair)) {
+                pair.tested_until = step_end_;
+            } else if (pair.static_hit) {
+                hit = true;
+            } else {
+                const List& list = lists_[pair.list];
+                ++counters_.polygons_collide_events;
+                const StepRun run = tester_.test_steps(list.mesh_a, pair.tri_a, list.mesh_b, pair.tri_b,
+                                                       std::max(step_begin_, pair.tested_until), step_end_, false);
+                pair.tested_until = run.tested_until;
+                hit = run.hit;
+                worked();
+            }
+        }
+        if (hit || pair.tested_until >= t_end_) continue;
+        if (kept != i) shared_vertex_pairs_[kept] = pair;
+        ++kept;
+    }
+    shared_vertex_pairs_.resize(kept);
 }
 
 ClearanceRun& KineticSeparationLists::clearance_run(Entry& e) {
@@ -502,6 +658,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
                 if (e.alive && e.step < step_index_ && e.quiet_until <= step_index_) update(id);
             }
         }
+        step_shared_vertex_pairs();
         ++counters_.bv_change_events;
         if (progress) progress(step_end_, static_cast<int64_t>(tester_.contacts().size()));
     }

@@ -17,16 +17,6 @@ bool edges_share_vertex(int32_t e0, int32_t e1, int32_t f0, int32_t f1) {
     return e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1;
 }
 
-/// Diagonal of the axis-aligned box of the six vertices: at least their diameter.
-double box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
-    Vec3 lo = a[0], hi = a[0];
-    for (int i = 0; i < 3; ++i) {
-        lo = lo.cwiseMin(a[i]).cwiseMin(b[i]);
-        hi = hi.cwiseMax(a[i]).cwiseMax(b[i]);
-    }
-    return (hi - lo).norm();
-}
-
 /// Smallest height of B's vertices minus the largest of A's along `normal`.
 double plane_gap(const Vec3& normal, const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
     const double top_a = std::max({normal.dot(a[0]), normal.dot(a[1]), normal.dot(a[2])});
@@ -42,6 +32,35 @@ double largest_coordinate(const std::array<Vec3, 3>& a, const std::array<Vec3, 3
 
 } // namespace
 
+double pair_box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+    Vec3 lo = a[0], hi = a[0];
+    for (int i = 0; i < 3; ++i) {
+        lo = lo.cwiseMin(a[i]).cwiseMin(b[i]);
+        hi = hi.cwiseMax(a[i]).cwiseMax(b[i]);
+    }
+    return (hi - lo).norm();
+}
+
+double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
+                                 const std::array<Vec3, 3>& b, bool same_mesh) {
+    double squared = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) {
+        if (!(same_mesh && holds_vertex(ids_b, ids_a[i])))
+            squared = std::min(squared, point_triangle_distance_squared(a[i], b[0], b[1], b[2]));
+        if (!(same_mesh && holds_vertex(ids_a, ids_b[i])))
+            squared = std::min(squared, point_triangle_distance_squared(b[i], a[0], a[1], a[2]));
+    }
+    for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3;
+        for (int j = 0; j < 3; ++j) {
+            const int j1 = (j + 1) % 3;
+            if (same_mesh && edges_share_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;
+            squared = std::min(squared, segment_segment_distance_squared(a[i], a[i1], b[j], b[j1]));
+        }
+    }
+    return std::sqrt(squared);
+}
+
 void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
                           const std::array<Vec3, 3>& b, bool same_mesh, double contact_distance, double tolerance) {
     ids_a_ = ids_a;
@@ -51,7 +70,7 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
         start_[i] = a[i];
         start_[3 + i] = b[i];
     }
-    diameter_ = box_diagonal(a, b);
+    diameter_ = pair_box_diagonal(a, b);
     contact_distance_ = PAIR_CLEARANCE_CONTACT_REACH * contact_distance;
     size_fraction_ = std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
     magnitude_ = largest_coordinate(a, b);
@@ -59,7 +78,13 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
     distance_known_ = false;
     plane_holds_ = false;
     bool shared = false;
-    for (int32_t v : ids_a) shared = shared || (same_mesh && holds_vertex(ids_b, v));
+    reference_ = 0;
+    for (int i = 2; i >= 0; --i) {
+        if (same_mesh && holds_vertex(ids_b, ids_a[i])) {
+            shared = true;
+            reference_ = i;
+        }
+    }
     if (!shared) {  // the plane of either triangle would pass through a shared vertex
         double best = -std::numeric_limits<double>::infinity();
         for (const std::array<Vec3, 3>* t : {&a, &b}) {
@@ -80,36 +105,25 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
 }
 
 void PairClearance::measure_distance() {
-    const Vec3* a = &start_[0];
-    const Vec3* b = &start_[3];
-    double squared = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < 3; ++i) {
-        if (!(same_mesh_ && holds_vertex(ids_b_, ids_a_[i])))
-            squared = std::min(squared, point_triangle_distance_squared(a[i], b[0], b[1], b[2]));
-        if (!(same_mesh_ && holds_vertex(ids_a_, ids_b_[i])))
-            squared = std::min(squared, point_triangle_distance_squared(b[i], a[0], a[1], a[2]));
-    }
-    for (int i = 0; i < 3; ++i) {
-        const int i1 = (i + 1) % 3;
-        for (int j = 0; j < 3; ++j) {
-            const int j1 = (j + 1) % 3;
-            if (same_mesh_ && edges_share_vertex(ids_a_[i], ids_a_[i1], ids_b_[j], ids_b_[j1])) continue;
-            squared = std::min(squared, segment_segment_distance_squared(a[i], a[i1], b[j], b[j1]));
-        }
-    }
-    distance_ = std::sqrt(squared);
+    distance_ = tested_primitive_distance(ids_a_, {start_[0], start_[1], start_[2]}, ids_b_,
+                                          {start_[3], start_[4], start_[5]}, same_mesh_);
     distance_known_ = true;
 }
 
 double PairClearance::plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {
-    return contact_distance_ + size_fraction_ * box_diagonal(a, b) + PAIR_CLEARANCE_ROUNDING * magnitude_;
+    return contact_distance_ + size_fraction_ * pair_box_diagonal(a, b) + PAIR_CLEARANCE_ROUNDING * magnitude_;
 }
 
 bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
-    double drift_a = 0.0, drift_b = 0.0;
-    for (int i = 1; i < 3; ++i) drift_a = std::max(drift_a, ((a[i] - a[0]) - (start_[i] - start_[0])).norm());
-    for (int j = 0; j < 3; ++j) drift_b = std::max(drift_b, ((b[j] - a[0]) - (start_[3 + j] - start_[0])).norm());
-    drift_ = std::max(drift_, drift_a + drift_b);
+    // Displacements relative to the reference vertex, squared: one square
+    // root per triangle (the largest), not one per vertex.
+    const Vec3 moved_reference = a[reference_] - start_[reference_];
+    double squared_a = 0.0, squared_b = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        squared_a = std::max(squared_a, (a[i] - start_[i] - moved_reference).squaredNorm());
+        squared_b = std::max(squared_b, (b[i] - start_[3 + i] - moved_reference).squaredNorm());
+    }
+    drift_ = std::max(drift_, std::sqrt(squared_a) + std::sqrt(squared_b));
     magnitude_ = std::max(magnitude_, largest_coordinate(a, b));
     plane_holds_ = plane_holds_ && plane_gap(normal_, a, b) > plane_reach(a, b);
     if (plane_holds_) return true;

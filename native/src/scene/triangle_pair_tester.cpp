@@ -7,13 +7,6 @@
 #include <limits>
 
 namespace usdksl {
-namespace {
-
-/// Most steps a pair waits, after a clearance certificate failed at once,
-/// before it tries another.
-constexpr int32_t CLEARANCE_MAX_BACKOFF_STEPS = 16;
-
-} // namespace
 
 TrianglePairTester::TrianglePairTester(const Scene& scene, const CCDSettings& settings, Counters& counters)
     : scene_(scene), settings_(settings), counters_(counters) {

@@ -43,7 +43,7 @@ TEST(PairClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
     // the certificate clears must be one the narrow phase misses.
     std::mt19937 random(20240611);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const auto point = [&](double scale) { return Vec3(unit(random), unit(random), unit(random)) * scale; };
+    const auto point = [&](double scale) -> Vec3 { return Vec3(unit(random), unit(random), unit(random)) * scale; };
     int cleared = 0, hits = 0;
     for (double thickness : {0.0, 0.05}) {
         CCDSettings settings;

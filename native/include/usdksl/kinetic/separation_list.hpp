@@ -6,6 +6,7 @@
 #include "usdksl/kinetic/chunked_vector.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
 #include "usdksl/narrow_phase/pair_clearance.hpp"
+#include "usdksl/narrow_phase/shared_vertex_clearance.hpp"
 #include "usdksl/scene/check_options.hpp"
 #include "usdksl/scene/scene.hpp"
 #include "usdksl/scene/triangle_pair_tester.hpp"
@@ -85,6 +86,21 @@ private:
         bool alive = false;
     };
     struct NodePair { int32_t a, b; };
+    /// A self leaf pair whose triangles share a vertex: its boxes overlap for
+    /// the whole shot, so it leaves the front and its narrow phase follows
+    /// the steps here, its certificate asked at the trees' step positions.
+    struct SharedVertexPair {
+        double tested_until;  // end (time code) of the last step the narrow phase or certificate covered
+        SharedVertexClearance clearance;
+        int32_t list;
+        int32_t tri_a, tri_b;
+        int8_t wait;     // steps to go before the next certificate
+        int8_t backoff;  // steps to wait after the next one fails at once
+        bool certified;  // a certificate is running
+        bool fresh;      // it has not cleared a step yet
+        bool static_pending;  // created at the window's begin: its static test is still to come
+        bool static_hit;      // the static test found contact at the window's begin
+    };
 
     // BVTT structure
     NodePair normalized(const List& list, int32_t a, int32_t b) const;
@@ -114,20 +130,30 @@ private:
     int32_t create_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, bool overlapping_leaf);
     /// `keep_tested`: a leaf pair's tested_until is saved for its return.
     void remove_entry(int32_t id, bool keep_tested = true);
-    /// True when nothing under the entry can ever need work again: a settled
-    /// (inert) leaf pair, or leaves sharing a vertex that are covered to the
-    /// window's end. Such an entry leaves the front: its fathers always meet
-    /// (the leaves' boxes share a vertex) or, when its pair comes back under
-    /// an expanding father, it is settled again at once.
+    /// True when nothing under the entry can ever need work again in the
+    /// front: a settled (inert) leaf pair, or overlapping leaves sharing a
+    /// vertex, handed over to shared_vertex_pairs_. Such an entry leaves the
+    /// front: its fathers always meet (the leaves' boxes share a vertex).
     bool done_with(const Entry& entry) const;
     void expand(int32_t list, int32_t a, int32_t b);
     void remove_descendants(int32_t list, int32_t a, int32_t b);
     /// Brings one entry created in an earlier step up to the current step.
     void update(int32_t id);
     /// Runs the narrow phase on the leaf pair's flightplan steps that the
-    /// current step reaches and were not tested yet (from the start of the
-    /// shot to its end for leaves that share a vertex).
+    /// current step reaches and were not tested yet; leaves that share a
+    /// vertex are handed over to shared_vertex_pairs_ instead.
     void cover(Entry& entry);
+    /// Brings every pair of shared_vertex_pairs_ to the current step's end:
+    /// its certificate clears the step, or the narrow phase tests it.
+    void step_shared_vertex_pairs();
+    /// At the window's begin, for an overlapping leaf pair: starts its
+    /// clearance run there and returns true when that certificate holds at
+    /// once, which proves what the static test would answer (no contact);
+    /// otherwise leaves the run as new and returns false.
+    bool clear_at_begin(Entry& entry);
+    /// True when the pair's certificate (started, restarted or backing off
+    /// as test_steps() schedules a ClearanceRun) clears the current step.
+    bool clears_step(SharedVertexPair& pair);
     /// The clearance certificate an overlapping leaf pair carries from one
     /// step to the next (allocated on first use).
     ClearanceRun& clearance_run(Entry& entry);
@@ -161,6 +187,7 @@ private:
     /// pair that returns does not run its narrow phase on the same steps again.
     std::unordered_map<uint64_t, double> leaf_tested_until_;
     ChunkedVector<ClearanceRun, 11> clearance_runs_;
+    std::vector<SharedVertexPair> shared_vertex_pairs_;
     std::vector<int32_t> free_clearance_runs_;
 };
 

@@ -44,6 +44,11 @@ public:
 
     const StepBox& box(int32_t node) const { return boxes_[node]; }
 
+    /// @brief Positions (scene units, x y z per vertex) at the fitted step's begin
+    ///        and at its end, as the flightplans give them there.
+    const double* begin_points() const { return begin_points_.data(); }
+    const double* end_points() const { return end_points_.data(); }
+
     /// @brief Scene units by which every box is grown beyond its vertices to
     ///        cover rounding; local to the magnitudes of the vertices under it.
     double box_margin(int32_t node) const { return box_margin_[node]; }

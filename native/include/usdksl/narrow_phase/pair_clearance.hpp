@@ -35,16 +35,33 @@ constexpr double PAIR_CLEARANCE_CONTACT_REACH = 2.0;
 /// @brief Rounding allowance relative to the largest absolute coordinate seen.
 constexpr double PAIR_CLEARANCE_ROUNDING = 1e-9;
 
+/// @brief Most steps a pair waits, after a clearance certificate failed at
+///        once, before it tries another.
+constexpr int32_t CLEARANCE_MAX_BACKOFF_STEPS = 16;
+
+/// @brief Smallest distance (scene units) between the primitive pairs of two
+///        triangles that the narrow phase tests: vertex-face and edge-edge,
+///        without those sharing a vertex when both are of one mesh.
+double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
+                                 const std::array<Vec3, 3>& b, bool same_mesh);
+
+/// @brief Diagonal (scene units) of the axis-aligned box of six vertices: at
+///        least their diameter.
+double pair_box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
+
 /// @brief Proves that no primitive pair of two triangles that the narrow phase
 ///        tests (vertex-face and edge-edge pairs, without those sharing a
 ///        vertex when both triangles are of one mesh) comes within reach
 ///        between the certificate's start and a later time. The distance of
 ///        every such pair at the start bounds it from below later, minus the
-///        drift: the largest displacement of A's vertices relative to A's
-///        first vertex plus that of B's, since the start (convex combinations
-///        move no farther than their corners). Positions are piecewise linear
-///        between breakpoints, so the drift's maximum over a step is at one
-///        of its ends.
+///        drift: the largest displacement of A's vertices relative to a
+///        reference vertex plus that of B's, since the start (convex
+///        combinations move no farther than their corners; any reference
+///        moving with both cancels out of their difference). The reference
+///        is a vertex the triangles share when they share one (it then
+///        drifts from neither), else A's first. Positions are piecewise
+///        linear between breakpoints, so the drift's maximum over a step is
+///        at one of its ends.
 ///
 ///        Triangles that share no vertex also get a separating plane, the
 ///        plane of either triangle that leaves the wider gap: while every
@@ -65,6 +82,11 @@ public:
     ///        while no tested primitive pair can have come within reach.
     bool holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
+    /// @brief True while the separating plane proof holds (every vertex of B
+    ///        beyond the reach on its side of the plane, A on the other): the
+    ///        closed triangles then neither touch nor pierce each other.
+    bool separated_by_plane() const { return plane_holds_; }
+
 private:
     /// Contact distance plus the narrow phase's margin for the six vertices'
     /// size and rounding, at positions a and b.
@@ -77,6 +99,7 @@ private:
     Triangle ids_a_{}, ids_b_{};
     bool same_mesh_ = false;
     std::array<Vec3, 6> start_;           // A's then B's vertices at the start
+    int reference_ = 0;                   // A's vertex that displacements are measured against
     bool distance_known_ = false;
     double distance_ = 0.0;               // smallest tested primitive distance at the start
     double diameter_ = 0.0;               // at least that of the six vertices at the start

@@ -76,6 +76,9 @@ public:
     /// @brief A key naming the triangle pair, equal for both orders, unique within the scene.
     uint64_t key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
 
+    /// @brief The settings every pair is tested with (the user's thickness).
+    const CCDSettings& settings() const { return settings_; }
+
     /// @brief First contacts found so far, in discovery order.
     const std::vector<Contact>& contacts() const { return contacts_; }
     /// @brief The contacts sorted by contact_before.
