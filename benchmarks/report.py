@@ -34,6 +34,9 @@ NOTES_MD = "notes.md"
 BATCH_SCALING_MD = "batch_scaling.md"
 #: Pages of other benchmarks embedded as they are, in this order, when present: (file, heading).
 EMBEDDED_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.py)"),
+                  ("newton_check_vs_sweep.md",
+                   "check against ipctk's earliest-contact sweep on an idle machine (benchmarks/newton_bench.py)"),
+                  ("threads.md", "One thread against two on the largest Newton cache (benchmarks/ksl_vs_swept.py)"),
                   ("exact_times.md", "Reported times against a tight reference (benchmarks/peer_ipctk.py)"),
                   ("scale.md", "10k to 1M faces (benchmarks/scale.py)"))
 #: benchmarks/ksl_vs_swept.py --baseline-python: KSL of the core before and after a change on a subset of
