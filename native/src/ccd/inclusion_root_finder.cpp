@@ -175,6 +175,10 @@ public:
             error[k] = std::max(CCD_CORNER_ERROR_FACTOR * max_abs[k], CCD_MIN_ABSOLUTE_ERROR);
             bound_[k] = (thickness + error[k]) * CCD_BOUND_INFLATION;
             exact_margin_[k] = EXACT_CHECK_ERROR_MULTIPLE * error[k];
+            corner_error_[k] = error[k];
+            vanishes_[k] = true;
+            for (int i = 1; i < 4; ++i)
+                vanishes_[k] = vanishes_[k] && start_[i][k] == start_[0][k] && end_[i][k] == end_[0][k];
         }
         exact_possible_ = finite && std::isfinite(thickness) &&
                           std::max({max_abs[0], max_abs[1], max_abs[2], thickness}) <= EXACT_CHECK_MAX_MAGNITUDE;
@@ -232,7 +236,7 @@ public:
             axis_lo[k] = lo;
             axis_hi[k] = hi;
         }
-        if (excluded_exactly(box, axis_lo, axis_hi)) return Verdict::Excluded;
+        if (excluded_exactly(box, axis_lo, axis_hi, corner)) return Verdict::Excluded;
         if (inside) return Verdict::Inside;
         auto& projected = image.projected;
         if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
@@ -385,10 +389,15 @@ public:
     /// exact image over the box lies in the hull of its exact corner values).
     /// Only axes whose float hull lies within a few rounding bounds of
     /// excluding are evaluated exactly; on any other axis exact values
-    /// cannot exclude either.
-    bool excluded_exactly(const ParameterBox& box, const double axis_lo[3], const double axis_hi[3]) const {
+    /// cannot exclude either. `corner` holds the float corner values the
+    /// hull came from.
+    bool excluded_exactly(const ParameterBox& box, const double axis_lo[3], const double axis_hi[3],
+                          const double corner[2][2][2][3]) const {
         if (!exact_possible_) return false;
         for (int k = 0; k < 3; ++k) {
+            // Exactly zero everywhere: never beyond the thickness, so no exact
+            // corner can exclude (flat cloth at rest asks this of most pairs).
+            if (vanishes_[k]) continue;
             const bool maybe_above = axis_lo[k] > thickness_ - exact_margin_[k];
             const bool maybe_below = axis_hi[k] < -thickness_ + exact_margin_[k];
             if (!maybe_above && !maybe_below) continue;
@@ -397,8 +406,23 @@ public:
                 const double t = (c & 4) ? box.t_hi : box.t_lo;
                 const double u = (c & 2) ? box.u_hi : box.u_lo;
                 const double v = (c & 1) ? box.v_hi : box.v_lo;
-                if (above && exact_corner_sign(k, t, u, v, -1.0) <= 0) above = false;
-                if (below && exact_corner_sign(k, t, u, v, 1.0) >= 0) below = false;
+                // The float corner value lies within corner_error_ of the
+                // exact one: far enough from the thickness, it tells the
+                // exact sign already (see FLOAT_DECIDES_SIGN_*).
+                const double error = corner_error_[k];
+                const double value = corner[c >> 2][(c >> 1) & 1][c & 1][k];
+                if (above) {
+                    const double beyond = value - thickness_;
+                    if (beyond < -FLOAT_DECIDES_SIGN_BELOW * error) above = false;
+                    else if (!(beyond > FLOAT_DECIDES_SIGN_ABOVE * error) && exact_corner_sign(k, t, u, v, -1.0) <= 0)
+                        above = false;
+                }
+                if (below) {
+                    const double beyond = -value - thickness_;
+                    if (beyond < -FLOAT_DECIDES_SIGN_BELOW * error) below = false;
+                    else if (!(beyond > FLOAT_DECIDES_SIGN_ABOVE * error) && exact_corner_sign(k, t, u, v, 1.0) >= 0)
+                        below = false;
+                }
             }
             if (above || below) return true;
         }
@@ -456,21 +480,37 @@ private:
     /// linear interpolation s + t e - t s of the step's end points, and F =
     /// (p[w+] - p[w-]) - u (p[e1+] - p[e1-]) - v (p[e2+] - p[e2-]), every
     /// product an error-free transform. The guard CCD_MIN_ABSOLUTE_ERROR
-    /// covers products that underflow.
+    /// covers products that underflow. Terms whose exact value is known
+    /// without products are simplified exactly (the sum, hence the sign, is
+    /// unchanged): a difference of two points with equal start and end
+    /// coordinates is zero, and a position is s at t = 0 or when the point
+    /// holds still on this axis (s = e), and e at t = 1.
     int exact_corner_sign(int k, double t, double u, double v, double offset_sign) const {
         expansion::ExactSum sum;
         const struct {
             double coefficient;
-            int point;
-        } terms[6] = {{1.0, pairs_.w_plus},   {-1.0, pairs_.w_minus}, {-u, pairs_.e1_plus},
-                      {u, pairs_.e1_minus},   {-v, pairs_.e2_plus},   {v, pairs_.e2_minus}};
-        for (const auto& term : terms) {
-            const double c = term.coefficient;
-            if (c == 0.0) continue;
-            const double s = start_[term.point][k], e = end_[term.point][k];
-            sum.add_product(c, s);
-            sum.add_triple_product(c, t, e);
-            sum.add_triple_product(c, t, s, -1.0);
+            int plus, minus;
+        } differences[3] = {{1.0, pairs_.w_plus, pairs_.w_minus},
+                            {-u, pairs_.e1_plus, pairs_.e1_minus},
+                            {-v, pairs_.e2_plus, pairs_.e2_minus}};
+        for (const auto& difference : differences) {
+            if (difference.coefficient == 0.0) continue;
+            if (start_[difference.plus][k] == start_[difference.minus][k] &&
+                end_[difference.plus][k] == end_[difference.minus][k])
+                continue;
+            for (const int point : {difference.plus, difference.minus}) {
+                const double c = point == difference.plus ? difference.coefficient : -difference.coefficient;
+                const double s = start_[point][k], e = end_[point][k];
+                if (t == 0.0 || s == e) {
+                    sum.add_product(c, s);
+                } else if (t == 1.0) {
+                    sum.add_product(c, e);
+                } else {
+                    sum.add_product(c, s);
+                    sum.add_triple_product(c, t, e);
+                    sum.add_triple_product(c, t, s, -1.0);
+                }
+            }
         }
         sum.add(offset_sign * thickness_);
         sum.add(offset_sign * CCD_MIN_ABSOLUTE_ERROR);
@@ -524,6 +564,12 @@ private:
     double displacement_[4][3];
     double bound_[3];
     double exact_margin_[3];
+    /// Per world axis: bound on the rounding error of one float corner value (scene units).
+    double corner_error_[3];
+    /// Per world axis: the four points share their coordinate at the step's
+    /// start and share it at its end, so every point sits at the same exact
+    /// coordinate at every time and F's component is exactly zero.
+    bool vanishes_[3];
     double thickness_ = 0.0;
     bool exact_possible_ = false;
     PairIndices pairs_;

@@ -27,6 +27,17 @@ constexpr double CCD_MIN_ABSOLUTE_ERROR = 1e-300;
 ///        rounding of the comparison itself).
 constexpr double EXACT_CHECK_ERROR_MULTIPLE = 2.0;
 
+/// @brief Before a corner is decided in exact arithmetic, its float value c
+///        decides it when far enough from the thickness T, in multiples of
+///        the corner error bound E (|c - exact| <= E, and E >= the exact
+///        check's guard CCD_MIN_ABSOLUTE_ERROR): c - T < -1.5 E (rounded)
+///        means c - T < -E, so the exact value lies below T; c - T > 2.5 E
+///        means c - T > 2 E, so the exact value lies beyond T + E >= T + guard.
+///        Either way the exact sign is the one the float value shows, so only
+///        corners within that band pay for exact arithmetic (dimensionless).
+constexpr double FLOAT_DECIDES_SIGN_BELOW = 1.5;
+constexpr double FLOAT_DECIDES_SIGN_ABOVE = 2.5;
+
 /// @brief Largest input coordinate or thickness (scene units) for which the
 ///        exact check runs: products of three such numbers stay far from
 ///        overflow in the error-free transforms. Larger inputs keep the

@@ -5,8 +5,9 @@
 ///        a polynomial in double inputs can be decided exactly.
 ///        Requires round-to-nearest and no FMA contraction (-ffp-contract=off).
 
+#include <array>
 #include <cstddef>
-#include <vector>
+#include <stdexcept>
 
 namespace usdksl::expansion {
 
@@ -39,6 +40,12 @@ inline void two_product(double a, double b, double& product, double& error) {
     error = (a_low * b_low) - err3;
 }
 
+/// @brief Most terms an ExactSum holds: every add() keeps at most one term
+///        more, and the largest caller (orient3d: 24 triple products of 4
+///        terms each) adds 96 doubles. Fixed, so exact signs never allocate
+///        (the root finder takes millions of them on flat cloth).
+constexpr std::size_t EXACT_SUM_CAPACITY = 128;
+
 /// @brief An exact sum of doubles kept as a non-overlapping expansion,
 ///        smallest magnitude first, zeros removed.
 class ExactSum {
@@ -47,14 +54,17 @@ public:
     void add(double value) {
         double q = value;
         std::size_t kept = 0;
-        for (std::size_t i = 0; i < terms_.size(); ++i) {
+        for (std::size_t i = 0; i < count_; ++i) {
             double sum, error;
             two_sum(q, terms_[i], sum, error);
             q = sum;
             if (error != 0.0) terms_[kept++] = error;
         }
-        terms_.resize(kept);
-        if (q != 0.0) terms_.push_back(q);
+        count_ = kept;
+        if (q != 0.0) {
+            if (count_ == EXACT_SUM_CAPACITY) throw std::length_error("ExactSum: more terms than EXACT_SUM_CAPACITY");
+            terms_[count_++] = q;
+        }
     }
 
     /// @brief Adds sign * x * y exactly.
@@ -81,12 +91,13 @@ public:
     /// @brief Exact sign of the sum: -1, 0 or +1 (the largest term decides,
     ///        because the terms do not overlap).
     int sign() const {
-        if (terms_.empty()) return 0;
-        return terms_.back() > 0.0 ? 1 : -1;
+        if (count_ == 0) return 0;
+        return terms_[count_ - 1] > 0.0 ? 1 : -1;
     }
 
 private:
-    std::vector<double> terms_;
+    std::array<double, EXACT_SUM_CAPACITY> terms_;  // only the first count_ are set
+    std::size_t count_ = 0;
 };
 
 } // namespace usdksl::expansion
