@@ -36,6 +36,8 @@ BATCH_SCALING_MD = "batch_scaling.md"
 EMBEDDED_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.py)"),
                   ("newton_check_vs_sweep.md",
                    "check against ipctk's earliest-contact sweep on an idle machine (benchmarks/newton_bench.py)"),
+                  ("ksl_vs_swept_newton_single_thread.md",
+                   "KSL against swept at one thread on the Newton caches (benchmarks/ksl_vs_swept.py)"),
                   ("threads.md", "One thread against two on the largest Newton cache (benchmarks/ksl_vs_swept.py)"),
                   ("exact_times.md", "Reported times against a tight reference (benchmarks/peer_ipctk.py)"),
                   ("scale.md", "10k to 1M faces (benchmarks/scale.py)"))
