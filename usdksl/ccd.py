@@ -121,12 +121,15 @@ def _ids(array, count, name) -> np.ndarray:
 
 
 def triangle_pair(a_t0, a_t1, b_t0, b_t1, ids_a=None, ids_b=None, same_mesh=False,
-                  tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS, max_iterations=DEFAULT_MAX_ITERATIONS):
+                  tolerance=DEFAULT_TOLERANCE, thickness=DEFAULT_THICKNESS, max_iterations=DEFAULT_MAX_ITERATIONS,
+                  reuse=True):
     """Earliest contact of Q moving triangle pairs (6 vertex-face + 9 edge-edge each).
 
     Returns (hit bool[Q], toi float64[Q], feature int8[Q], undecided bool[Q],
     primitive_queries int32[Q]); feature codes as in :mod:`usdksl.contacts`
-    (0 vertex of A on B, 1 vertex of B on A, 2 edge-edge).
+    (0 vertex of A on B, 1 vertex of B on A, 2 edge-edge). With ``reuse``, a vertex-face
+    query repeated within the batch with the same inputs is answered from a memo, as
+    ``usdksl check`` does: the answers are the same bit for bit either way.
     """
     _check_settings(tolerance, thickness)
     a_t0, a_t1 = _triangles(a_t0, "a_t0"), _triangles(a_t1, "a_t1")
@@ -134,7 +137,8 @@ def triangle_pair(a_t0, a_t1, b_t0, b_t1, ids_a=None, ids_b=None, same_mesh=Fals
     count = a_t0.shape[0]
     return _native.triangle_pair_ccd_batch(a_t0, a_t1, b_t0, b_t1, _ids(ids_a, count, "ids_a"),
                                            _ids(ids_b, count, "ids_b"), bool(same_mesh),
-                                           float(tolerance), float(thickness), int(max_iterations))
+                                           float(tolerance), float(thickness), int(max_iterations),
+                                           bool(reuse))[:5]
 
 
 def triangles_intersect_static(a, b, thickness=DEFAULT_THICKNESS) -> np.ndarray:

@@ -117,7 +117,7 @@ void define_ccd(py::module_& m) {
         "triangle_pair_ccd_batch",
         [](const DoubleArray& a_t0, const DoubleArray& a_t1, const DoubleArray& b_t0,
            const DoubleArray& b_t1, const IndexArray& ids_a, const IndexArray& ids_b, bool same_mesh,
-           double tolerance, double thickness, int64_t max_iterations) {
+           double tolerance, double thickness, int64_t max_iterations, bool reuse) {
             for (const auto* array : {&a_t0, &a_t1, &b_t0, &b_t1}) require_shape(*array, {3, 3}, "triangles (expected (Q, 3, 3))");
             require_shape(ids_a, {3}, "ids_a (expected (Q, 3))");
             require_shape(ids_b, {3}, "ids_b (expected (Q, 3))");
@@ -137,27 +137,32 @@ void define_ccd(py::module_& m) {
             auto* feature_out = feature.mutable_data();
             auto* undecided_out = undecided.mutable_data();
             auto* queries_out = queries.mutable_data();
+            py::array_t<int32_t> reused(count);
+            auto* reused_out = reused.mutable_data();
             const double *pa0 = a_t0.data(), *pa1 = a_t1.data(), *pb0 = b_t0.data(), *pb1 = b_t1.data();
             const int32_t *ia = ids_a.data(), *ib = ids_b.data();
             {
                 py::gil_scoped_release release;
+                VertexFaceMemo memo;
                 for (py::ssize_t q = 0; q < count; ++q) {
                     const MovingTriangle a{ids_at(ia, q), triangle_at(pa0, q), triangle_at(pa1, q)};
                     const MovingTriangle b{ids_at(ib, q), triangle_at(pb0, q), triangle_at(pb1, q)};
-                    const TrianglePairContact c = triangle_pair_ccd(a, b, same_mesh, settings);
+                    const TrianglePairContact c = triangle_pair_ccd(a, b, same_mesh, settings, reuse ? &memo : nullptr);
                     hit_out[q] = c.hit;
                     toi_out[q] = c.toi;
                     feature_out[q] = static_cast<int8_t>(c.feature);
                     undecided_out[q] = c.undecided;
                     queries_out[q] = c.queries;
+                    reused_out[q] = c.reused_queries;
                 }
             }
-            return py::make_tuple(hit, toi, feature, undecided, queries);
+            return py::make_tuple(hit, toi, feature, undecided, queries, reused);
         },
         py::arg("a_t0"), py::arg("a_t1"), py::arg("b_t0"), py::arg("b_t1"), py::arg("ids_a"),
         py::arg("ids_b"), py::arg("same_mesh"), py::arg("tolerance"), py::arg("thickness"),
-        py::arg("max_iterations"),
-        "Triangle-pair CCD over Q pairs -> (hit, toi, feature, undecided, primitive_queries).");
+        py::arg("max_iterations"), py::arg("reuse") = true,
+        "Triangle-pair CCD over Q pairs -> (hit, toi, feature, undecided, primitive_queries, reused_queries); "
+        "with reuse, repeated vertex-face queries within the batch are answered from a memo (same answers).");
 
     m.def(
         "triangles_intersect_static_batch",

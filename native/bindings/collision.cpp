@@ -114,6 +114,7 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     counters["narrow_phase_tests"] = k.narrow_phase_tests;
     counters["cleared_steps"] = k.cleared_steps;
     counters["primitive_queries"] = k.primitive_queries;
+    counters["reused_queries"] = k.reused_queries;
     counters["undecided_queries"] = k.undecided_queries;
     counters["raw_confirmations"] = k.raw_confirmations;
     counters["raw_rejections"] = k.raw_rejections;

@@ -80,3 +80,11 @@ def test_ksl_reports_the_swirl_near_miss_whenever_brute_force_does(swirl_near_mi
         assert reference, f"within {thickness:g} of each other the faces count as touching"
         assert reference <= pairs("ksl", thickness), f"KSL misses what brute force finds at {thickness:g}"
         assert reference <= pairs("swept", thickness), f"swept misses what brute force finds at {thickness:g}"
+
+
+def test_ksl_answers_repeated_vertex_face_queries_from_the_memo(generated_shot):
+    shot, plan = generated_shot
+    result = find_contacts(shot.meshes, plan.pairs, method="ksl", tolerance=TOLERANCE)
+    counters = result.counters
+    # A cloth's narrow phase asks each vertex against each face once per triangle holding the vertex.
+    assert 0 < counters["reused_queries"] < counters["primitive_queries"], counters

@@ -126,6 +126,7 @@ void add_counters(Counters& total, const Counters& part) {
     total.narrow_phase_tests += part.narrow_phase_tests;
     total.cleared_steps += part.cleared_steps;
     total.primitive_queries += part.primitive_queries;
+    total.reused_queries += part.reused_queries;
     total.undecided_queries += part.undecided_queries;
     total.raw_confirmations += part.raw_confirmations;
     total.raw_rejections += part.raw_rejections;

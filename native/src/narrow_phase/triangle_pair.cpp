@@ -51,7 +51,7 @@ double magnitude_of(const Box* boxes, int count) {
 } // namespace
 
 TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b,
-                                      bool same_mesh, const CCDSettings& settings) {
+                                      bool same_mesh, const CCDSettings& settings, VertexFaceMemo* memo) {
     TrianglePairContact contact;
     // Swept boxes of the six vertices: a linear trajectory stays inside the box
     // of its two end positions.
@@ -80,20 +80,28 @@ TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTrian
         }
     };
 
+    auto vertex_face = [&](const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                           const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1) {
+        if (!memo) return vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, best_toi);
+        bool reused = false;
+        const CCDResult result =
+            memo->vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, best_toi, reused);
+        contact.reused_queries += reused ? 1 : 0;
+        return result;
+    };
+
     // Vertices of A against triangle B.
     for (int i = 0; i < 3 && best_toi > 0.0; ++i) {
         if (same_mesh && contains_id(b.ids, a.ids[i])) continue;
         if (!boxes_within(swept_a[i], triangle_b, reach)) continue;
-        consider(vertex_face_ccd(a.t0[i], b.t0[0], b.t0[1], b.t0[2], a.t1[i], b.t1[0], b.t1[1],
-                                 b.t1[2], settings, best_toi),
+        consider(vertex_face(a.t0[i], b.t0[0], b.t0[1], b.t0[2], a.t1[i], b.t1[0], b.t1[1], b.t1[2]),
                  ContactFeature::VertexFace);
     }
     // Vertices of B against triangle A.
     for (int j = 0; j < 3 && best_toi > 0.0; ++j) {
         if (same_mesh && contains_id(a.ids, b.ids[j])) continue;
         if (!boxes_within(swept_b[j], triangle_a, reach)) continue;
-        consider(vertex_face_ccd(b.t0[j], a.t0[0], a.t0[1], a.t0[2], b.t1[j], a.t1[0], a.t1[1],
-                                 a.t1[2], settings, best_toi),
+        consider(vertex_face(b.t0[j], a.t0[0], a.t0[1], a.t0[2], b.t1[j], a.t1[0], a.t1[1], a.t1[2]),
                  ContactFeature::FaceVertex);
     }
     // Edges of A against edges of B.

@@ -88,8 +88,10 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
     ++counters_.narrow_phase_tests;
     const MovingTriangle a{scene_.meshes[mesh_a].triangles[tri_a], a0, a1};
     const MovingTriangle b{scene_.meshes[mesh_b].triangles[tri_b], b0, b1};
-    const TrianglePairContact hit = triangle_pair_ccd(a, b, mesh_a == mesh_b, settings_for(mesh_a, mesh_b));
+    const TrianglePairContact hit =
+        triangle_pair_ccd(a, b, mesh_a == mesh_b, settings_for(mesh_a, mesh_b), &vertex_face_memo_);
     counters_.primitive_queries += hit.queries;
+    counters_.reused_queries += hit.reused_queries;
     if (hit.undecided) ++counters_.undecided_queries;
     if (!hit.hit) return false;
     Contact contact;
@@ -220,8 +222,9 @@ bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh
         // checked range gets the same answer from every method.
         const TrianglePairContact still = triangle_pair_ccd(MovingTriangle{ids_a, at_a, at_a},
                                                             MovingTriangle{ids_b, at_b, at_b}, mesh_a == mesh_b,
-                                                            settings_for(mesh_a, mesh_b));
+                                                            settings_for(mesh_a, mesh_b), &vertex_face_memo_);
         counters_.primitive_queries += still.queries;
+        counters_.reused_queries += still.reused_queries;
         if (still.undecided) ++counters_.undecided_queries;
         hit = still.hit;
     }

@@ -4,6 +4,7 @@
 ///        linear step, and two triangles at one instant.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/ccd/vertex_face_memo.hpp"
 #include "usdksl/narrow_phase/feature.hpp"
 #include "usdksl/types.hpp"
 
@@ -22,6 +23,8 @@ struct TrianglePairContact {
     bool undecided = false;
     /// @brief Number of primitive CCD queries run (counter for benchmarks).
     int32_t queries = 0;
+    /// @brief Of those, vertex-face queries answered by the memo (counter for benchmarks).
+    int32_t reused_queries = 0;
 };
 
 /// @brief Vertex ids and positions of one triangle at the start and end of a step.
@@ -36,9 +39,12 @@ struct MovingTriangle {
 /// @brief Earliest contact over one linear step between triangles A and B:
 ///        the minimum over their 6 vertex-face and 9 edge-edge primitive pairs.
 ///        When `same_mesh` is true, primitive pairs that share a vertex id are
-///        never tested. Conservative: never misses a contact.
+///        never tested. Conservative: never misses a contact. With a `memo`,
+///        vertex-face queries asked recently with the same inputs are answered
+///        from it: the same answer bit for bit, at the cost of a lookup.
 TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b,
-                                      bool same_mesh, const CCDSettings& settings);
+                                      bool same_mesh, const CCDSettings& settings,
+                                      VertexFaceMemo* memo = nullptr);
 
 /// @brief True when triangles A and B (positions at one instant) touch or
 ///        intersect (within settings.thickness), considering only primitives

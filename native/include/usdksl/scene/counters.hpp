@@ -29,6 +29,10 @@ struct Counters {
     int64_t cleared_steps = 0;
     /// @brief Primitive (vertex-face, edge-edge) CCD queries.
     int64_t primitive_queries = 0;
+    /// @brief Vertex-face queries of those answered by a memo of the same inputs
+    ///        (no root search). Depends on how the check was split into
+    ///        time windows, never changes an answer.
+    int64_t reused_queries = 0;
     /// @brief Primitive queries that hit the iteration cap.
     int64_t undecided_queries = 0;
     /// @brief Candidate contacts of merged flightplans re-tested on the raw samples.

@@ -4,6 +4,7 @@
 ///        steps and keeps the first contact of each pair.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/ccd/vertex_face_memo.hpp"
 #include "usdksl/narrow_phase/pair_clearance.hpp"
 #include "usdksl/scene/contact.hpp"
 #include "usdksl/scene/counters.hpp"
@@ -100,6 +101,9 @@ private:
     std::vector<int64_t> triangle_offset_;
     std::unordered_map<uint64_t, size_t> found_;
     std::vector<Contact> contacts_;
+    /// Repeated vertex-face queries of this tester's narrow phase (a tester
+    /// is used by one thread at a time).
+    VertexFaceMemo vertex_face_memo_;
 };
 
 } // namespace usdksl
