@@ -44,7 +44,7 @@ EMBEDDED_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_benc
 #: benchmarks/ksl_vs_swept.py --baseline-python: KSL of the core before and after a change on a subset of
 #: the keyframed grid, in one run; embedded right after the grid it checks.
 GRID_BEFORE_AFTER_PAGE = ("keyframed_before_after.md",
-                          "The keyframed grid before and after the step-batched KSL core (benchmarks/ksl_vs_swept.py)")
+                          "The keyframed grid before issue 19's KSL work and on main (benchmarks/ksl_vs_swept.py)")
 
 
 def _ok(row: Dict, label: str) -> Optional[Dict]:
