@@ -1,6 +1,6 @@
 #include "usdksl/kinetic/separation_list.hpp"
 
-#include "usdksl/geometry/exact_geometry.hpp"
+#include "usdksl/narrow_phase/triangle_pair.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,19 +20,11 @@ constexpr double kNothingTested = -1e300;
 /// of the crossing fractions, so rounding never hides a meeting.
 constexpr double STEP_MEETING_SLACK = 1e-9;
 
-/// True when an edge of triangle A that shares no vertex with B (both of one
-/// mesh) meets closed triangle B: the piercing the static test reports, which
-/// no distance between primitive pairs shows.
-bool pierces(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
-             const std::array<Vec3, 3>& b) {
-    const auto in_b = [&](int32_t v) { return v == ids_b[0] || v == ids_b[1] || v == ids_b[2]; };
-    for (int i = 0; i < 3; ++i) {
-        const int i1 = (i + 1) % 3;
-        if (!in_b(ids_a[i]) && !in_b(ids_a[i1]) && segment_intersects_triangle(a[i], a[i1], b[0], b[1], b[2])) {
-            return true;
-        }
-    }
-    return false;
+/// A triangle's corners in a step tree's position array (x y z per vertex).
+std::array<Vec3, 3> triangle_corners(const double* points, const Triangle& ids) {
+    std::array<Vec3, 3> at;
+    for (int i = 0; i < 3; ++i) at[i] = Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(ids[i]));
+    return at;
 }
 
 uint64_t pair_key(int32_t a, int32_t b) {
@@ -417,13 +409,8 @@ bool KineticSeparationLists::clear_at_begin(Entry& e) {
     }
     const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
     const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
-    const auto corners = [](const double* points, const Triangle& ids) {
-        std::array<Vec3, 3> at;
-        for (int i = 0; i < 3; ++i) at[i] = Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(ids[i]));
-        return at;
-    };
-    const std::array<Vec3, 3> a = corners(trees_[mesh_a]->begin_points(), ids_a);
-    const std::array<Vec3, 3> b = corners(trees_[mesh_b]->begin_points(), ids_b);
+    const std::array<Vec3, 3> a = triangle_corners(trees_[mesh_a]->begin_points(), ids_a);
+    const std::array<Vec3, 3> b = triangle_corners(trees_[mesh_b]->begin_points(), ids_b);
     ClearanceRun& run = clearance_run(e);
     run.clearance.start(ids_a, a, ids_b, b, mesh_a == mesh_b, margin_of(list), tester_.settings().tolerance);
     // The static test also reports triangles that pierce each other without
@@ -444,18 +431,14 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     const std::vector<Triangle>& triangles = scene_.meshes[list.mesh_a].triangles;
     const Triangle& ids_a = triangles[pair.tri_a];
     const Triangle& ids_b = triangles[pair.tri_b];
-    const auto corners = [](const double* points, const Triangle& ids) {
-        std::array<Vec3, 3> at;
-        for (int i = 0; i < 3; ++i) at[i] = Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(ids[i]));
-        return at;
-    };
     const auto start_certificate = [&]() {
         const Flightplans& plans = scene_.plans[list.mesh_a];
         double magnitude = 0.0;
         for (const Triangle* ids : {&ids_a, &ids_b}) {
             for (int32_t v : *ids) magnitude = std::max(magnitude, plans.vertex_magnitude(v));
         }
-        pair.clearance.start(ids_a, corners(tree.begin_points(), ids_a), ids_b, corners(tree.begin_points(), ids_b),
+        pair.clearance.start(ids_a, triangle_corners(tree.begin_points(), ids_a), ids_b,
+                             triangle_corners(tree.begin_points(), ids_b),
                              margin_of(list), tester_.settings().tolerance, magnitude);
         pair.certified = pair.fresh = true;
     };
@@ -467,10 +450,10 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
         // The window's first step: a certificate that holds at its begin
         // proves what the static test would find (no contact there).
         pair.static_pending = false;
-        const std::array<Vec3, 3> a0 = corners(tree.begin_points(), ids_a);
-        const std::array<Vec3, 3> b0 = corners(tree.begin_points(), ids_b);
-        const bool clear = pair.certified && pair.clearance.holds_at(a0, b0) && !pierces(ids_a, a0, ids_b, b0) &&
-                           !pierces(ids_b, b0, ids_a, a0);
+        const std::array<Vec3, 3> a0 = triangle_corners(tree.begin_points(), ids_a);
+        const std::array<Vec3, 3> b0 = triangle_corners(tree.begin_points(), ids_b);
+        const bool clear = pair.certified && pair.clearance.holds_at(a0, b0) &&
+                           !edge_pierces_triangle(ids_a, a0, ids_b, b0) && !edge_pierces_triangle(ids_b, b0, ids_a, a0);
         if (!clear && tester_.test_static(list.mesh_a, pair.tri_a, list.mesh_b, pair.tri_b, t_begin_)) {
             pair.static_hit = true;
             return false;
@@ -480,8 +463,8 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
         if (pair.wait > 0) --pair.wait;
         return false;
     }
-    const std::array<Vec3, 3> a1 = corners(tree.end_points(), ids_a);
-    const std::array<Vec3, 3> b1 = corners(tree.end_points(), ids_b);
+    const std::array<Vec3, 3> a1 = triangle_corners(tree.end_points(), ids_a);
+    const std::array<Vec3, 3> b1 = triangle_corners(tree.end_points(), ids_b);
     bool cleared = pair.clearance.holds_at(a1, b1);
     if (!cleared && !pair.fresh) {
         start_certificate();

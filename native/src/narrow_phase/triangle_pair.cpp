@@ -50,6 +50,17 @@ double magnitude_of(const Box* boxes, int count) {
 
 } // namespace
 
+bool edge_pierces_triangle(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
+                           const std::array<Vec3, 3>& b) {
+    for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3;
+        if (!contains_id(ids_b, ids_a[i]) && !contains_id(ids_b, ids_a[i1]) &&
+            segment_intersects_triangle(a[i], a[i1], b[0], b[1], b[2]))
+            return true;
+    }
+    return false;
+}
+
 TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b,
                                       bool same_mesh, const CCDSettings& settings, VertexFaceMemo* memo) {
     TrianglePairContact contact;
@@ -155,15 +166,9 @@ bool triangle_pair_intersect_static(const Triangle& ids_a, const std::array<Vec3
                 return true;
         }
     }
+    if (edge_pierces_triangle(ids_a, a, ids_b, b) || edge_pierces_triangle(ids_b, b, ids_a, a)) return true;
     for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3;
-        // An edge piercing the other triangle (only if it shares none of its vertices).
-        if (!contains_id(ids_b, ids_a[i]) && !contains_id(ids_b, ids_a[i1]) &&
-            segment_intersects_triangle(a[i], a[i1], b[0], b[1], b[2]))
-            return true;
-        if (!contains_id(ids_a, ids_b[i]) && !contains_id(ids_a, ids_b[i1]) &&
-            segment_intersects_triangle(b[i], b[i1], a[0], a[1], a[2]))
-            return true;
         for (int j = 0; j < 3; ++j) {
             const int j1 = (j + 1) % 3;
             if (edge_shares_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;

@@ -54,4 +54,11 @@ bool triangle_pair_intersect_static(const Triangle& ids_a, const std::array<Vec3
                                     const Triangle& ids_b, const std::array<Vec3, 3>& b,
                                     bool same_mesh, double thickness);
 
+/// @brief True when an edge of triangle A that shares no vertex id with B
+///        meets closed triangle B (positions at one instant, exact test): the
+///        piercing the static test reports, which no distance between
+///        primitive pairs shows.
+bool edge_pierces_triangle(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
+                           const std::array<Vec3, 3>& b);
+
 } // namespace usdksl
