@@ -91,3 +91,38 @@ def test_blocks_of_steps_find_exactly_what_single_steps_find(monkeypatch, block_
     expected = _blowups_step_by_step("/World/Cloth", times, points)
     assert len(expected) >= 9
     assert [(b.vertex, b.time_before, b.time_after, b.excess, b.mesh_size) for b in found] == expected
+
+
+@pytest.mark.parametrize("fraction", [0.6, 0.75, 0.9])
+def test_a_vertex_moving_against_its_mesh_is_found_though_no_vertex_moves_the_threshold(fraction):
+    """The cheap bound that skips quiet steps must count the common motion: every vertex moves by T,
+    one by -T, so its excess is 2|T| while no displacement exceeds |T| (here under the threshold)."""
+    times, points = waving_cloth(frames=12)
+    size = blowups.mesh_size(points)
+    threshold = BLOWUP_SIZE_FACTOR * size
+    shove = np.array([fraction * threshold, 0.0, 0.0])
+    points[9:] += shove
+    points[9:, 20] -= 2.0 * shove   # 3 of 12 samples stretched: the median size hardly moves
+    threshold = BLOWUP_SIZE_FACTOR * blowups.mesh_size(points)
+    assert np.linalg.norm(shove) < threshold < 2.0 * np.linalg.norm(shove)
+    found = find_blowups("/World/Cloth", times, points)
+    assert [(b.vertex, b.time_before, b.time_after) for b in found] == [(20, 8.0, 9.0)]
+    assert found[0].excess > threshold
+    assert [(b.vertex, b.time_before, b.time_after, b.excess, b.mesh_size) for b in found] == \
+        _blowups_step_by_step("/World/Cloth", times, points)
+
+
+def test_steps_near_the_threshold_give_what_the_median_of_every_step_gives():
+    rng = np.random.default_rng(11)
+    for trial in range(40):
+        times, points = waving_cloth(frames=12)
+        threshold = BLOWUP_SIZE_FACTOR * blowups.mesh_size(points)
+        for k in rng.integers(1, 12, 4):
+            common = rng.normal(size=3)
+            points[k:] += common / np.linalg.norm(common) * rng.uniform(0.0, 0.7) * threshold
+            vertex = rng.integers(0, 36)
+            kick = rng.normal(size=3)
+            points[k:, vertex] += kick / np.linalg.norm(kick) * rng.uniform(0.8, 1.2) * threshold
+        found = find_blowups("/World/Cloth", times, points)
+        assert [(b.vertex, b.time_before, b.time_after, b.excess, b.mesh_size) for b in found] == \
+            _blowups_step_by_step("/World/Cloth", times, points), trial
