@@ -202,7 +202,8 @@ def describe(shot, method, threads, r):
             f"queries={c['primitive_queries']:>10d} events={events:>9d} (tree={c['kinetic_tree_events']} "
             f"pc={c['polygons_collide_events']} bvchg={c['bv_change_events']} overlap={c['bv_overlap_events']} "
             f"fathers={c['fathers_do_not_overlap_events']} leaves={c['leaves_do_not_overlap_events']}) "
-            f"confirm={c['raw_confirmations']} reject={c['raw_rejections']} tri_pairs={r['pairs']} "
+            f"confirm={c['raw_confirmations']} reject={c['raw_rejections']} windows={c.get('time_windows', 1)} "
+            f"tri_pairs={r['pairs']} "
             f"face_pairs={r['face_pairs']} peak={r['peak_bytes'] / 2**20:.0f}MB "
             f"({r['peak_bytes'] / max(1, r['triangle_samples']):.0f} B/tri-sample) answer={r['answer']} "
             f"load={r['load']:.2f}")

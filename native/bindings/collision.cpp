@@ -118,6 +118,7 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     counters["undecided_queries"] = k.undecided_queries;
     counters["raw_confirmations"] = k.raw_confirmations;
     counters["raw_rejections"] = k.raw_rejections;
+    counters["time_windows"] = k.time_windows;
     out["counters"] = counters;
     return out;
 }

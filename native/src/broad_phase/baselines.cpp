@@ -67,7 +67,8 @@ void refit_all(std::vector<std::unique_ptr<AabbTree>>& trees, double t0, double 
 } // namespace
 
 void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                      const CheckOptions& options, TrianglePairTester& tester, Counters& counters) {
+                      const CheckOptions& options, TrianglePairTester& tester, Counters& counters,
+                      WindowStop* stop) {
     const std::vector<double> times = merged_sample_times(scene, mesh_pairs, options.t_begin, options.t_end);
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
     const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
@@ -86,6 +87,7 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
     std::unordered_map<uint64_t, double> tested_until;
     for (size_t i = 0; i + 1 < times.size(); ++i) {
         const double t0 = times[i], t1 = times[i + 1];
+        if (stop && i > 0 && stop->stops_before(t0)) break;
         refit_all(trees, t0, t1, padding);
         for (const auto& [ma, mb] : mesh_pairs) {
             if (!trees[ma] || !trees[mb]) continue;
@@ -105,12 +107,14 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
                     tester.test_step(ma, ta, mb, tb, step);
                 });
         }
+        if (stop) stop->reach(t1);
         ticker.report(t1);
     }
 }
 
 void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                  const CheckOptions& options, TrianglePairTester& tester, Counters& counters) {
+                  const CheckOptions& options, TrianglePairTester& tester, Counters& counters,
+                  WindowStop* stop) {
     const std::vector<double> samples = merged_sample_times(scene, mesh_pairs, options.t_begin, options.t_end);
     const int32_t substeps = std::max<int32_t>(1, options.discrete_substeps);
     std::vector<double> instants;
@@ -124,7 +128,9 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
     const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
     ProgressTicker ticker(options, tester);
-    for (double t : instants) {
+    for (size_t i = 0; i < instants.size(); ++i) {
+        const double t = instants[i];
+        if (stop && i > 0 && stop->stops_before(t)) break;
         refit_all(trees, t, t, padding);
         for (const auto& [ma, mb] : mesh_pairs) {
             if (!trees[ma] || !trees[mb]) continue;
@@ -134,6 +140,8 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
                                                ticker.tested(t);
                                            });
         }
+        // Every instant before the next one is tested.
+        if (stop) stop->reach(i + 1 < instants.size() ? instants[i + 1] : t);
         ticker.report(t);
     }
 }

@@ -2,6 +2,7 @@
 
 #include "raw_sample_confirmation.hpp"
 #include "time_windows.hpp"
+#include "window_schedule.hpp"
 
 #include "usdksl/broad_phase/baselines.hpp"
 #include "usdksl/kinetic/separation_list.hpp"
@@ -51,9 +52,10 @@ void validate(const std::vector<MeshAnimation>& meshes, const std::vector<std::p
     }
 }
 
-/// Time windows per thread: more windows than threads balance uneven work
-/// (contacts cluster in time) at the cost of one front set-up per window.
-constexpr int32_t WINDOWS_PER_THREAD = 4;
+/// Time windows per thread planned for a method that cannot cut a running
+/// window short (brute force): more windows than threads balance uneven work
+/// at the cost of one set-up per window.
+constexpr int32_t WINDOWS_PER_THREAD_UNCUT = 4;
 
 int32_t resolve_threads(int32_t requested) {
     if (requested > 0) return requested;
@@ -65,9 +67,39 @@ int32_t resolve_threads(int32_t requested) {
 /// finishing its window.
 struct WindowCancelled {};
 
-/// Runs body(i) for i in [0, count) on up to `threads` threads (the caller's
-/// included), handing out indices in order; rethrows the first exception
+/// True when the method honours WindowStop, so a running window can be cut.
+bool cuts_windows(Method method) { return method != Method::BruteForce; }
+
+/// Runs body(window) for every window the schedule hands out, on up to
+/// `threads` threads (the caller's included); rethrows the first exception
 /// (a WindowCancelled only follows another one and is not reported).
+template <typename Body>
+void check_windows_in_parallel(int32_t threads, WindowSchedule& schedule, Body body) {
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    const auto work = [&]() {
+        while (ScheduledWindow* window = schedule.next()) {
+            try {
+                body(*window);
+            } catch (const WindowCancelled&) {
+                schedule.cancel();
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(failure_mutex);
+                if (!failure) failure = std::current_exception();
+                schedule.cancel();
+            }
+            schedule.finish(*window);
+        }
+    };
+    std::vector<std::thread> workers;
+    for (int32_t t = 1; t < threads; ++t) workers.emplace_back(work);
+    work();
+    for (std::thread& worker : workers) worker.join();
+    if (failure) std::rethrow_exception(failure);
+}
+
+/// Runs body(k) for k in [0, count) on up to `threads` threads (the caller's
+/// included); rethrows the first exception.
 template <typename Body>
 void parallel_for(int32_t threads, int32_t count, Body body) {
     std::atomic<int32_t> next{0};
@@ -93,21 +125,23 @@ void parallel_for(int32_t threads, int32_t count, Body body) {
     if (failure) std::rethrow_exception(failure);
 }
 
-/// Runs one method over [t_begin, t_end] on `scene`, recording candidates in `tester`.
+/// Runs one method over [t_begin, t_end] on `scene`, recording candidates in
+/// `tester`; a method that honours `stop` may end early (see WindowStop).
 void run_method(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                const CheckOptions& options, TrianglePairTester& tester, Counters& counters) {
+                const CheckOptions& options, TrianglePairTester& tester, Counters& counters,
+                WindowStop* stop = nullptr) {
     switch (options.method) {
     case Method::KineticSeparationList: {
         KineticSeparationLists lists(scene, mesh_pairs, tester, counters, options.t_begin, options.t_end,
                                      options.ccd.thickness);
-        lists.run(options.progress);
+        lists.run(options.progress, stop);
         break;
     }
     case Method::SweptVolume:
-        run_swept_volume(scene, mesh_pairs, options, tester, counters);
+        run_swept_volume(scene, mesh_pairs, options, tester, counters, stop);
         break;
     case Method::Discrete:
-        run_discrete(scene, mesh_pairs, options, tester, counters);
+        run_discrete(scene, mesh_pairs, options, tester, counters, stop);
         break;
     case Method::BruteForce:
         run_brute_force(scene, mesh_pairs, options, tester);
@@ -130,31 +164,31 @@ void add_counters(Counters& total, const Counters& part) {
     total.undecided_queries += part.undecided_queries;
     total.raw_confirmations += part.raw_confirmations;
     total.raw_rejections += part.raw_rejections;
+    total.time_windows += part.time_windows;
 }
 
 /// Joins the progress of windows checked at once into one callback, called
 /// with the total time covered (added to the range start) and all contacts.
 class WindowProgress {
 public:
-    WindowProgress(const ProgressCallback& user, const std::vector<TimeWindow>& windows)
-        : user_(user), windows_(windows), reached_(windows.size()), contacts_(windows.size(), 0) {
-        for (size_t w = 0; w < windows.size(); ++w) reached_[w] = windows[w].begin;
-    }
-    ProgressCallback for_window(size_t w) {
+    WindowProgress(const ProgressCallback& user, const WindowSchedule& schedule, double t_begin)
+        : user_(user), schedule_(schedule), t_begin_(t_begin) {}
+    ProgressCallback for_window(ScheduledWindow& window) {
         if (!user_) return {};
-        return [this, w](double t, int64_t contacts) {
+        return [this, &window](double t, int64_t contacts) {
             std::lock_guard<std::mutex> lock(mutex_);
             if (cancelled_) throw WindowCancelled{};
-            reached_[w] = std::clamp(t, windows_[w].begin, windows_[w].end);
-            contacts_[w] = contacts;
+            window.progress_time = t;
+            window.progress_contacts = contacts;
             double covered = 0.0;
             int64_t total = 0;
-            for (size_t i = 0; i < windows_.size(); ++i) {
-                covered += reached_[i] - windows_[i].begin;
-                total += contacts_[i];
-            }
+            schedule_.for_each([&](const ScheduledWindow& w) {
+                // A window cut short may have run past its new end: that time is counted once.
+                covered += std::clamp(w.progress_time, w.begin, std::max(w.begin, w.end)) - w.begin;
+                total += w.progress_contacts;
+            });
             try {
-                user_(windows_.front().begin + covered, total);
+                user_(t_begin_ + covered, total);
             } catch (...) {
                 cancelled_ = true;
                 throw;
@@ -164,11 +198,10 @@ public:
 
 private:
     const ProgressCallback& user_;
-    const std::vector<TimeWindow>& windows_;
+    const WindowSchedule& schedule_;
+    const double t_begin_;
     std::mutex mutex_;
     std::atomic<bool> cancelled_{false};
-    std::vector<double> reached_;
-    std::vector<int64_t> contacts_;
 };
 
 /// Earliest contact per triangle pair over all windows (the earlier window on
@@ -209,10 +242,15 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
     const Scene scene(meshes, merge);
     const int32_t threads = resolve_threads(options.threads);
-    const std::vector<TimeWindow> windows =
-        threads > 1 ? split_into_windows(scene, mesh_pairs, options.t_begin, options.t_end, threads * WINDOWS_PER_THREAD)
-                    : std::vector<TimeWindow>{{options.t_begin, options.t_end}};
-    if (windows.size() == 1) {
+    const bool cuttable = cuts_windows(options.method);
+    std::unique_ptr<WindowCuts> cuts;
+    std::vector<TimeWindow> planned{{options.t_begin, options.t_end}};
+    if (threads > 1) {
+        cuts = std::make_unique<WindowCuts>(scene, mesh_pairs, options.t_begin, options.t_end);
+        planned = split_into_windows(*cuts, cuttable ? threads : threads * WINDOWS_PER_THREAD_UNCUT);
+    }
+    if (planned.size() == 1) {
+        result.counters.time_windows = 1;
         TrianglePairTester tester(scene, options.ccd, result.counters);
         run_method(scene, mesh_pairs, options, tester, result.counters);
         // The discrete baseline answers at sampled instants; it stays what it is, misses included.
@@ -225,23 +263,34 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     // Windows are checked independently, each on its own copy of the scene
     // (shared flightplans, own cursors). Every reported time is computed on
     // raw sample steps, which a window tests exactly as a whole run does, so
-    // the earliest contact per pair over the windows is the whole run's.
-    const size_t count = windows.size();
-    std::vector<std::vector<Contact>> candidates(count), confirmed(count);
-    std::vector<Counters> counters(count);
-    WindowProgress progress(options.progress, windows);
-    parallel_for(threads, static_cast<int32_t>(count), [&](int32_t w) {
+    // the earliest contact per pair over the windows is the whole run's,
+    // wherever the windows were cut.
+    WindowSchedule schedule(*cuts, planned, cuttable);
+    WindowProgress progress(options.progress, schedule, options.t_begin);
+    check_windows_in_parallel(threads, schedule, [&](ScheduledWindow& window) {
         const Scene local(scene);
         CheckOptions window_options = options;
-        window_options.t_begin = windows[w].begin;
-        window_options.t_end = windows[w].end;
-        window_options.progress = progress.for_window(static_cast<size_t>(w));
-        TrianglePairTester tester(local, options.ccd, counters[w]);
-        run_method(local, mesh_pairs, window_options, tester, counters[w]);
-        candidates[w] = tester.sorted_contacts();
+        window_options.t_begin = window.begin;
+        window_options.t_end = window.end;
+        window_options.progress = progress.for_window(window);
+        TrianglePairTester tester(local, options.ccd, window.counters);
+        run_method(local, mesh_pairs, window_options, tester, window.counters, cuttable ? &window.stop : nullptr);
+        if (!cuttable) window.stop.reach(window.end);
+        window.candidates = tester.sorted_contacts();
     });
+    // Each window as far as it covered: a window cut short ends where it
+    // stopped, at or after the begin of the window that took its rest.
+    const std::vector<ScheduledWindow*> windows = schedule.in_time_order();
+    const size_t count = windows.size();
+    std::vector<TimeWindow> covered(count);
+    std::vector<std::vector<Contact>> confirmed(count);
+    std::vector<Counters> counters(count);
+    for (size_t w = 0; w < count; ++w) {
+        covered[w] = {windows[w]->begin, windows[w]->stop.reached.load()};
+        counters[w] = windows[w]->counters;
+    }
     std::vector<FlightplanKind> kinds;
-    for (const std::vector<Contact>& c : candidates) mark_meshes_to_confirm(scene, c, kinds);
+    for (const ScheduledWindow* window : windows) mark_meshes_to_confirm(scene, window->candidates, kinds);
     std::unique_ptr<Scene> raw_scene;
     if (options.method != Method::Discrete && std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
         raw_scene = std::make_unique<Scene>(meshes, kinds);
@@ -249,7 +298,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     // The discrete baseline answers at sampled instants; it stays what it is, misses included.
     const bool confirm = options.method != Method::Discrete && raw_scene;
     if (!confirm) {
-        confirmed = candidates;
+        for (size_t w = 0; w < count; ++w) confirmed[w] = windows[w]->candidates;
     } else {
         // Windows are confirmed in time order, each over all threads: a pair
         // confirmed in an earlier window needs no confirming in a later one
@@ -258,7 +307,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         std::set<std::tuple<int32_t, int32_t, int32_t, int32_t>> confirmed_pairs;
         for (size_t w = 0; w < count; ++w) {
             std::vector<Contact> open;
-            for (const Contact& c : candidates[w]) {
+            for (const Contact& c : windows[w]->candidates) {
                 if (!confirmed_pairs.count({c.mesh_a, c.tri_a, c.mesh_b, c.tri_b})) open.push_back(c);
             }
             const int32_t chunks = static_cast<int32_t>(std::min<size_t>(static_cast<size_t>(threads), open.size()));
@@ -270,8 +319,8 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                     share.push_back(open[i]);
                 }
                 const Scene raw_local(*raw_scene);
-                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, windows[w].begin, windows[w].end,
-                                                part_counters[k], progress.for_window(w));
+                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, covered[w].begin, covered[w].end,
+                                                part_counters[k], progress.for_window(*windows[w]));
             });
             for (int32_t k = 0; k < chunks; ++k) {
                 add_counters(counters[w], part_counters[k]);
@@ -283,6 +332,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         }
     }
     for (const Counters& c : counters) add_counters(result.counters, c);
+    result.counters.time_windows = static_cast<int64_t>(count);
     result.contacts = merge_windows(confirmed);
     return result;
 }

@@ -6,28 +6,9 @@
 
 namespace usdksl {
 
-std::vector<TimeWindow> split_into_windows(const Scene& scene,
-                                           const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                                           double t_begin, double t_end, int32_t count) {
-    const std::vector<double> times = merged_sample_times(scene, mesh_pairs, t_begin, t_end);
-    // times holds t_begin, t_end and every sample strictly between them.
-    const int64_t inner = static_cast<int64_t>(times.size()) - 2;
-    const int64_t steps = inner + 1;
-    // Sizes fall linearly, count steps for the first window down to one for
-    // the last: the windows are handed out in order, so the thread that takes
-    // the last one ends soon after the others. The last window spans at least
-    // MIN_SAMPLE_STEPS_PER_WINDOW steps, so the total weight may be at most
-    // steps / MIN_SAMPLE_STEPS_PER_WINDOW.
-    while (count > 1 && static_cast<int64_t>(count) * (count + 1) / 2 * MIN_SAMPLE_STEPS_PER_WINDOW > steps) --count;
-    if (count <= 1) return {TimeWindow{t_begin, t_end}};
-    const double total_weight = static_cast<double>(count) * (count + 1) / 2.0;
-    const auto cut_before = [&](int32_t w) {  // ideal sample index where window w begins
-        const double weight_before = static_cast<double>(w) * count - static_cast<double>(w) * (w - 1) / 2.0;
-        return weight_before / total_weight * static_cast<double>(steps);
-    };
-
-    // How many flightplan breakpoints fall on each sample time.
-    std::vector<int64_t> shared(times.size(), 0);
+WindowCuts::WindowCuts(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                       double t_begin, double t_end)
+    : times_(merged_sample_times(scene, mesh_pairs, t_begin, t_end)), shared_(times_.size(), 0) {
     std::vector<bool> used(scene.meshes.size(), false);
     for (const auto& [a, b] : mesh_pairs) used[a] = used[b] = true;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -35,30 +16,64 @@ std::vector<TimeWindow> split_into_windows(const Scene& scene,
         const Flightplans& plans = scene.plans[m];
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
             for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
-                const auto it = std::lower_bound(times.begin(), times.end(), plans.key_time(k));
-                if (it != times.end() && *it == plans.key_time(k)) ++shared[it - times.begin()];
+                const auto it = std::lower_bound(times_.begin(), times_.end(), plans.key_time(k));
+                if (it != times_.end() && *it == plans.key_time(k)) ++shared_[it - times_.begin()];
             }
         }
     }
+}
+
+int64_t WindowCuts::index_at_or_after(double t) const {
+    return std::lower_bound(times_.begin(), times_.end(), t) - times_.begin();
+}
+
+int64_t WindowCuts::best_cut(int64_t ideal, int64_t reach, int64_t lo, int64_t hi) const {
+    const auto distance = [&](int64_t j) { return j > ideal ? j - ideal : ideal - j; };
+    int64_t best = -1;
+    for (int64_t i = std::max(lo, ideal - reach); i <= std::min(hi, ideal + reach); ++i) {
+        if (best < 0 || shared_[i] > shared_[best] || (shared_[i] == shared_[best] && distance(i) < distance(best))) {
+            best = i;
+        }
+    }
+    return best;
+}
+
+std::vector<TimeWindow> split_into_windows(const WindowCuts& cuts, int32_t count) {
+    const std::vector<double>& times = cuts.times();
+    // times holds t_begin, t_end and every sample strictly between them.
+    const int64_t steps = cuts.steps();
+    const int64_t inner = steps - 1;
+    // Sizes fall linearly, count steps for the first window down to one for
+    // the last: the windows are handed out in order, so the thread that takes
+    // the last one ends soon after the others. The last window spans at least
+    // MIN_SAMPLE_STEPS_PER_WINDOW steps, so the total weight may be at most
+    // steps / MIN_SAMPLE_STEPS_PER_WINDOW.
+    while (count > 1 && static_cast<int64_t>(count) * (count + 1) / 2 * MIN_SAMPLE_STEPS_PER_WINDOW > steps) --count;
+    if (count <= 1) return {TimeWindow{times.front(), times.back()}};
+    const double total_weight = static_cast<double>(count) * (count + 1) / 2.0;
+    const auto cut_before = [&](int32_t w) {  // ideal sample index where window w begins
+        const double weight_before = static_cast<double>(w) * count - static_cast<double>(w) * (w - 1) / 2.0;
+        return weight_before / total_weight * static_cast<double>(steps);
+    };
     std::vector<TimeWindow> windows;
     int64_t previous = 0;
     for (int32_t w = 1; w < count; ++w) {
         const int64_t ideal = static_cast<int64_t>(cut_before(w) + 0.5);
         // Near the ideal cut, a quarter of the smaller neighbouring window either way.
         const int64_t reach = static_cast<int64_t>((cut_before(w + 1) - cut_before(w)) / 4);
-        int64_t best = -1;
-        for (int64_t i = std::max(previous + 1, ideal - reach); i <= std::min(inner, ideal + reach); ++i) {
-            const auto distance = [&](int64_t j) { return j > ideal ? j - ideal : ideal - j; };
-            if (best < 0 || shared[i] > shared[best] || (shared[i] == shared[best] && distance(i) < distance(best))) {
-                best = i;
-            }
-        }
+        const int64_t best = cuts.best_cut(ideal, reach, previous + 1, inner);
         if (best < 0) continue;
         windows.push_back({times[previous], times[best]});
         previous = best;
     }
-    windows.push_back({times[previous], t_end});
+    windows.push_back({times[previous], times.back()});
     return windows;
+}
+
+std::vector<TimeWindow> split_into_windows(const Scene& scene,
+                                           const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
+                                           double t_begin, double t_end, int32_t count) {
+    return split_into_windows(WindowCuts(scene, mesh_pairs, t_begin, t_end), count);
 }
 
 } // namespace usdksl

@@ -25,17 +25,43 @@ struct TimeWindow {
 ///        an 11-sample shot split over 2 threads took 1.9x the CPU of one.
 constexpr int64_t MIN_SAMPLE_STEPS_PER_WINDOW = 8;
 
-/// @brief Up to `count` consecutive windows covering [t_begin, t_end], cut at
-///        sample times of the checked meshes. Window sizes fall linearly (the
-///        first spans `count` shares of the range, the last one share): threads
-///        take windows in order, so the last one handed out is the smallest
-///        and no thread is left with a long window while the others idle.
-///        Near each cut it prefers the sample time that most flightplan
-///        breakpoints share (a keyframe of a resampled animation), so few
-///        merged steps straddle a cut and get tested by two windows. The count
-///        shrinks until the smallest window spans about
-///        MIN_SAMPLE_STEPS_PER_WINDOW sample steps; one window when count <= 1
-///        or the range is too short.
+/// @brief Where a checked range may be cut into windows: its sample times,
+///        and how many flightplan breakpoints fall on each.
+class WindowCuts {
+public:
+    WindowCuts(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs, double t_begin,
+               double t_end);
+
+    /// @brief t_begin, every sample time strictly between, t_end (time codes).
+    const std::vector<double>& times() const { return times_; }
+    /// @brief Sample steps in the range (intervals between consecutive times()).
+    int64_t steps() const { return static_cast<int64_t>(times_.size()) - 1; }
+    /// @brief Index of the first of times() at or after `t` (steps() past the end).
+    int64_t index_at_or_after(double t) const;
+    /// @brief The index in [lo, hi] within `reach` of `ideal` at which most
+    ///        flightplan breakpoints fall (a keyframe of a resampled
+    ///        animation: few merged steps straddle a cut there and get tested
+    ///        by two windows), the nearest to `ideal` among equals; -1 when
+    ///        that range is empty.
+    int64_t best_cut(int64_t ideal, int64_t reach, int64_t lo, int64_t hi) const;
+
+private:
+    std::vector<double> times_;
+    std::vector<int64_t> shared_;  // per time: flightplan breakpoints that fall on it
+};
+
+/// @brief Up to `count` consecutive windows covering the range of `cuts`, cut
+///        at its sample times. Window sizes fall linearly (the first spans
+///        `count` shares of the range, the last one share): threads take
+///        windows in order, so the last one handed out is the smallest and no
+///        thread is left with a long window while the others idle. Each cut
+///        is WindowCuts::best_cut within a quarter of the smaller neighbouring
+///        window of its ideal place. The count shrinks until the smallest
+///        window spans about MIN_SAMPLE_STEPS_PER_WINDOW sample steps; one
+///        window when count <= 1 or the range is too short.
+std::vector<TimeWindow> split_into_windows(const WindowCuts& cuts, int32_t count);
+
+/// @brief split_into_windows over [t_begin, t_end] of the meshes in `mesh_pairs`.
 std::vector<TimeWindow> split_into_windows(const Scene& scene,
                                            const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
                                            double t_begin, double t_end, int32_t count);

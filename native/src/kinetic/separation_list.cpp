@@ -602,7 +602,7 @@ void KineticSeparationLists::update(int32_t id) {
     }
 }
 
-void KineticSeparationLists::run(const ProgressCallback& progress) {
+void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* stop) {
     progress_ = &progress;
     std::vector<bool> used(trees_.size(), false);
     for (size_t m = 0; m < trees_.size(); ++m) used[m] = trees_[m] != nullptr;
@@ -610,6 +610,8 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
     if (times_.size() == 1) times_.push_back(times_.front());  // an empty range: its one instant
     measure_travel();
     for (size_t k = 0; k + 1 < times_.size(); ++k) {
+        // Every step before k is done: all contacts before times_[k] are candidates.
+        if (stop && k > 0 && stop->stops_before(times_[k])) break;
         step_index_ = static_cast<int64_t>(k);
         step_begin_ = times_[k];
         step_end_ = times_[k + 1];
@@ -643,6 +645,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress) {
         }
         step_shared_vertex_pairs();
         ++counters_.bv_change_events;
+        if (stop) stop->reach(step_end_);
         if (progress) progress(step_end_, static_cast<int64_t>(tester_.contacts().size()));
     }
     progress_ = nullptr;

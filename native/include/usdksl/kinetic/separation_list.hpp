@@ -10,6 +10,7 @@
 #include "usdksl/scene/check_options.hpp"
 #include "usdksl/scene/scene.hpp"
 #include "usdksl/scene/triangle_pair_tester.hpp"
+#include "usdksl/scene/window_stop.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -61,8 +62,10 @@ public:
                            TrianglePairTester& tester, Counters& counters, double t_begin, double t_end,
                            double thickness);
 
-    /// @brief Processes every step up to t_end (time codes).
-    void run(const ProgressCallback& progress);
+    /// @brief Processes every step up to t_end (time codes), or, given a
+    ///        `stop`, up to the first step boundary at or after its stop_at,
+    ///        publishing each step's end in its `reached`.
+    void run(const ProgressCallback& progress, WindowStop* stop = nullptr);
 
 private:
     struct List {

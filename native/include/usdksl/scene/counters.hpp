@@ -39,6 +39,10 @@ struct Counters {
     int64_t raw_confirmations = 0;
     /// @brief Re-tested candidates that never touch on the raw samples (dropped).
     int64_t raw_rejections = 0;
+    /// @brief Time windows the range was checked in: 1 on one thread; with
+    ///        several, the planned ones plus one per window cut short for a
+    ///        thread that came free (varies from run to run, the answer never).
+    int64_t time_windows = 0;
 };
 
 } // namespace usdksl
