@@ -5,7 +5,7 @@
 namespace usdksl {
 
 WindowSchedule::WindowSchedule(const WindowCuts& cuts, const std::vector<TimeWindow>& planned, bool cuttable)
-    : cuts_(cuts), cuttable_(cuttable) {
+    : cuts_(cuts), cuttable_(cuttable), planned_(planned.size()) {
     for (const TimeWindow& w : planned) {
         windows_.push_back(std::make_unique<ScheduledWindow>(w.begin, w.end));
         windows_.back()->progress_time = w.begin;
@@ -15,7 +15,7 @@ WindowSchedule::WindowSchedule(const WindowCuts& cuts, const std::vector<TimeWin
 ScheduledWindow* WindowSchedule::next() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (cancelled_) return nullptr;
-    if (next_planned_ < windows_.size()) {
+    if (next_planned_ < planned_) {
         ScheduledWindow* window = windows_[next_planned_++].get();
         window->started = true;
         return window;

@@ -74,7 +74,8 @@ private:
     const WindowCuts& cuts_;
     const bool cuttable_;
     mutable std::mutex mutex_;
-    std::vector<std::unique_ptr<ScheduledWindow>> windows_;
+    std::vector<std::unique_ptr<ScheduledWindow>> windows_;  // the planned ones first, then those cut off
+    const size_t planned_;
     size_t next_planned_ = 0;
     bool cancelled_ = false;
     int64_t cuts_made_ = 0;

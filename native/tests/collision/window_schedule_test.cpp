@@ -96,3 +96,18 @@ TEST(WindowSchedule, HandsOutNothingOnceCancelled) {
     schedule.cancel();
     EXPECT_EQ(schedule.next(), nullptr);
 }
+
+TEST(WindowSchedule, AWindowCutOffIsHandedOutOnlyToTheThreadThatCutIt) {
+    HundredSteps range;
+    WindowSchedule schedule(range.cuts, {{0.0, 60.0}, {60.0, 100.0}}, true);
+    ScheduledWindow* first = schedule.next();
+    ScheduledWindow* second = schedule.next();
+    second->stop.reach(100.0);
+    schedule.finish(*second);
+    ScheduledWindow* taken = schedule.next();
+    ASSERT_NE(taken, nullptr);
+    first->stop.reach(first->end);
+    taken->stop.reach(taken->end - 1.0);  // too little ahead to cut again
+    EXPECT_EQ(schedule.next(), nullptr) << "the cut-off window is not handed out as a planned one";
+    EXPECT_EQ(schedule.in_time_order().size(), 3u);
+}
