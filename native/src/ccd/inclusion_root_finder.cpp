@@ -26,14 +26,6 @@
 namespace usdksl {
 namespace {
 
-struct ParameterBox {
-    double t_lo, t_hi, u_lo, u_hi, v_lo, v_hi;
-    int32_t depth;
-    /// Set on a box clipped to within tolerance: it answers if its own
-    /// corners do not exclude it.
-    bool final_check = false;
-};
-
 /// Heap order: earliest t_lo on top; among equal t_lo the deepest box, so the
 /// search dives (depth first) into the earliest candidate region.
 struct LaterFirst {
@@ -577,30 +569,35 @@ private:
 
 } // namespace
 
-CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,
-                             double t_max) {
-    CCDResult result;
-    t_max = std::min(t_max, 1.0);
-    if (!(t_max > 0.0)) return result;
+namespace {
 
-    RootSearch search(f, settings);
+/// The search loop, from `heap` after `iterations` boxes; `first`, when
+/// given, is the box to take before any from the heap (as if just popped).
+/// With a `fork`, the first box on which a search at fork->finer_tolerance
+/// would split differently is recorded there (see FinerSearchFork).
+CCDResult search_boxes(RootSearch& search, const CCDSettings& settings, double t_max,
+                       std::vector<ParameterBox>& heap, int64_t iterations, const ParameterBox* first,
+                       FinerSearchFork* fork) {
+    CCDResult result;
     const double tolerance = std::max(settings.tolerance, CCD_MIN_TOLERANCE);
     // Computed at the first split: most queries end on their first box.
     double tolerances[3] = {0.0, 0.0, 0.0};
+    double finer_tolerances[3] = {0.0, 0.0, 0.0};
     bool tolerances_known = false;
     const int64_t max_iterations = settings.max_iterations;
-
-    thread_local std::vector<ParameterBox> heap;
-    heap.clear();
-    heap.push_back(ParameterBox{0.0, t_max, 0.0, 1.0, 0.0, 1.0, 0});
     const LaterFirst later_first;
     BoxImage image;
-    int64_t iterations = 0;
 
-    while (!heap.empty()) {
-        std::pop_heap(heap.begin(), heap.end(), later_first);
-        const ParameterBox box = heap.back();
-        heap.pop_back();
+    while (first || !heap.empty()) {
+        ParameterBox box;
+        if (first) {
+            box = *first;
+            first = nullptr;
+        } else {
+            std::pop_heap(heap.begin(), heap.end(), later_first);
+            box = heap.back();
+            heap.pop_back();
+        }
         if (box.t_lo >= t_max) break;
 
         if (max_iterations > 0 && iterations >= max_iterations) {
@@ -648,6 +645,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         if (search.excluded_exactly(box, image)) continue;
         if (!tolerances_known) {
             search.parameter_tolerances(tolerance, tolerances);
+            if (fork) search.parameter_tolerances(std::max(fork->finer_tolerance, CCD_MIN_TOLERANCE), finer_tolerances);
             tolerances_known = true;
         }
         const double old_widths[3] = {box.t_hi - box.t_lo, box.u_hi - box.u_lo, box.v_hi - box.v_lo};
@@ -659,6 +657,19 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         for (int d = 0; d < 3; ++d) {
             if (old_widths[d] > 0.0) kept[d] = widths[d] / old_widths[d];
             variation[d] *= kept[d];
+        }
+        if (fork && !fork->diverged) {
+            // Tolerances only decide which parameters may split; while they
+            // agree on that, the finer search takes the same steps.
+            for (int d = 0; d < 3; ++d) {
+                if ((widths[d] > tolerances[d]) != (widths[d] > finer_tolerances[d])) {
+                    fork->diverged = true;
+                    fork->box = box;
+                    fork->heap = heap;
+                    fork->iterations = iterations - 1;
+                    break;
+                }
+            }
         }
         int split_axis = -1;
         double best_variation = -1.0;
@@ -726,6 +737,29 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
     }
     result.iterations = iterations;
     return result;
+}
+
+} // namespace
+
+CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings, double t_max,
+                             FinerSearchFork* fork) {
+    if (fork) fork->diverged = false;
+    t_max = std::min(t_max, 1.0);
+    if (!(t_max > 0.0)) return CCDResult{};
+    RootSearch search(f, settings);
+    thread_local std::vector<ParameterBox> heap;
+    heap.clear();
+    heap.push_back(ParameterBox{0.0, t_max, 0.0, 1.0, 0.0, 1.0, 0});
+    return search_boxes(search, settings, t_max, heap, 0, nullptr, fork);
+}
+
+CCDResult resume_finer_search(const MultilinearDistance& f, const CCDSettings& finer_settings, double t_max,
+                              const FinerSearchFork& fork) {
+    t_max = std::min(t_max, 1.0);
+    RootSearch search(f, finer_settings);
+    thread_local std::vector<ParameterBox> heap;
+    heap = fork.heap;
+    return search_boxes(search, finer_settings, t_max, heap, fork.iterations, &fork.box, nullptr);
 }
 
 } // namespace usdksl

@@ -206,6 +206,9 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     // slack and find candidates; every continuous answer (brute force's too)
     // is confirmed on the raw samples at a finer tolerance. The reference and
     // the discrete check read the raw samples directly.
+    // Their candidates found on raw-sample steps carry that step's confirming
+    // test (TrianglePairTester::carry_confirmations); the reference confirms
+    // everything afresh, so it stays independent of that shortcut.
     const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
     const Scene scene(meshes, merge);
     const int32_t threads = resolve_threads(options.threads);
@@ -214,6 +217,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                     : std::vector<TimeWindow>{{options.t_begin, options.t_end}};
     if (windows.size() == 1) {
         TrianglePairTester tester(scene, options.ccd, result.counters);
+        if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
         run_method(scene, mesh_pairs, options, tester, result.counters);
         // The discrete baseline answers at sampled instants; it stays what it is, misses included.
         result.contacts = options.method == Method::Discrete
@@ -237,6 +241,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         window_options.t_end = windows[w].end;
         window_options.progress = progress.for_window(static_cast<size_t>(w));
         TrianglePairTester tester(local, options.ccd, counters[w]);
+        if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
         run_method(local, mesh_pairs, window_options, tester, counters[w]);
         candidates[w] = tester.sorted_contacts();
     });
