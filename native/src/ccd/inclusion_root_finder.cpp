@@ -13,7 +13,7 @@
 #include "inclusion_root_finder.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
-#include "usdksl/geometry/expansion_arithmetic.hpp"
+#include "usdksl/ccd/corner_sign.hpp"
 
 #include <Eigen/Geometry>
 
@@ -25,14 +25,6 @@
 
 namespace usdksl {
 namespace {
-
-struct ParameterBox {
-    double t_lo, t_hi, u_lo, u_hi, v_lo, v_hi;
-    int32_t depth;
-    /// Set on a box clipped to within tolerance: it answers if its own
-    /// corners do not exclude it.
-    bool final_check = false;
-};
 
 /// Heap order: earliest t_lo on top; among equal t_lo the deepest box, so the
 /// search dives (depth first) into the earliest candidate region.
@@ -57,6 +49,8 @@ struct BoxImage {
     static constexpr int MAX_DIRECTIONS = 4;
     double corner[2][2][2][3];
     double projected[MAX_DIRECTIONS][8];
+    /// Per world axis: the hull of the float corner values.
+    double axis_lo[3], axis_hi[3];
 };
 
 /// W, E1, E2 at one time, computed in the exact operation order the error
@@ -182,7 +176,15 @@ public:
         }
         exact_possible_ = finite && std::isfinite(thickness) &&
                           std::max({max_abs[0], max_abs[1], max_abs[2], thickness}) <= EXACT_CHECK_MAX_MAGNITUDE;
-        choose_separating_directions(thickness, error, max_abs);
+        for (int k = 0; k < 3; ++k) max_abs_[k] = max_abs[k];
+    }
+
+    /// The separating directions, chosen on first use: most queries end
+    /// on their first box, many before a direction is needed.
+    void ensure_directions() {
+        if (directions_chosen_) return;
+        directions_chosen_ = true;
+        choose_separating_directions(thickness_, corner_error_, max_abs_);
     }
 
     TermsAtTime terms_at(double t) const {
@@ -198,7 +200,10 @@ public:
         return terms;
     }
 
-    /// Outcome of evaluating one box.
+    /// Outcome of evaluating one box. Straddles is not final: the box may
+    /// still be excluded exactly (excluded_exactly), which the caller asks
+    /// last, as any exclusion drops the box alike and the exact one costs
+    /// most.
     enum class Verdict { Excluded, Inside, Straddles };
 
     /// Which parameter-variation measure the split rule asks for.
@@ -208,13 +213,14 @@ public:
     /// each parameter (t, u, v) moves F: for the Targeted rule, the
     /// constraint that most nearly excludes the box; for the Overall rule,
     /// any component of the distance function.
-    Verdict evaluate(const ParameterBox& box, SplitRule rule, double variation[3], BoxImage& image) const {
+    Verdict evaluate(const ParameterBox& box, SplitRule rule, double variation[3], BoxImage& image) {
         const TermsAtTime at[2] = {terms_at(box.t_lo), terms_at(box.t_hi)};
         const double us[2] = {box.u_lo, box.u_hi};
         const double vs[2] = {box.v_lo, box.v_hi};
         auto& corner = image.corner;
         bool inside = true;
-        double axis_lo[3], axis_hi[3];
+        double* axis_lo = image.axis_lo;
+        double* axis_hi = image.axis_hi;
         for (int k = 0; k < 3; ++k) {
             double lo = INFINITY, hi = -INFINITY;
             for (int it = 0; it < 2; ++it) {
@@ -236,8 +242,8 @@ public:
             axis_lo[k] = lo;
             axis_hi[k] = hi;
         }
-        if (excluded_exactly(box, axis_lo, axis_hi, corner)) return Verdict::Excluded;
-        if (inside) return Verdict::Inside;
+        if (inside) return excluded_exactly(box, image) ? Verdict::Excluded : Verdict::Inside;
+        ensure_directions();
         auto& projected = image.projected;
         if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
 
@@ -389,11 +395,13 @@ public:
     /// exact image over the box lies in the hull of its exact corner values).
     /// Only axes whose float hull lies within a few rounding bounds of
     /// excluding are evaluated exactly; on any other axis exact values
-    /// cannot exclude either. `corner` holds the float corner values the
-    /// hull came from.
-    bool excluded_exactly(const ParameterBox& box, const double axis_lo[3], const double axis_hi[3],
-                          const double corner[2][2][2][3]) const {
+    /// cannot exclude either. `image` holds the box's float corner values
+    /// and their hull, as evaluate() left them.
+    bool excluded_exactly(const ParameterBox& box, const BoxImage& image) const {
         if (!exact_possible_) return false;
+        const double* axis_lo = image.axis_lo;
+        const double* axis_hi = image.axis_hi;
+        const auto& corner = image.corner;
         for (int k = 0; k < 3; ++k) {
             // Exactly zero everywhere: never beyond the thickness, so no exact
             // corner can exclude (flat cloth at rest asks this of most pairs).
@@ -401,6 +409,7 @@ public:
             const bool maybe_above = axis_lo[k] > thickness_ - exact_margin_[k];
             const bool maybe_below = axis_hi[k] < -thickness_ + exact_margin_[k];
             if (!maybe_above && !maybe_below) continue;
+            const CornerAxis axis = corner_axis(k);
             bool above = maybe_above, below = maybe_below;
             for (int c = 0; c < 8 && (above || below); ++c) {
                 const double t = (c & 4) ? box.t_hi : box.t_lo;
@@ -414,19 +423,36 @@ public:
                 if (above) {
                     const double beyond = value - thickness_;
                     if (beyond < -FLOAT_DECIDES_SIGN_BELOW * error) above = false;
-                    else if (!(beyond > FLOAT_DECIDES_SIGN_ABOVE * error) && exact_corner_sign(k, t, u, v, -1.0) <= 0)
+                    else if (!(beyond > FLOAT_DECIDES_SIGN_ABOVE * error) && exact_corner_sign(axis, t, u, v, -1.0) <= 0)
                         above = false;
                 }
                 if (below) {
                     const double beyond = -value - thickness_;
                     if (beyond < -FLOAT_DECIDES_SIGN_BELOW * error) below = false;
-                    else if (!(beyond > FLOAT_DECIDES_SIGN_ABOVE * error) && exact_corner_sign(k, t, u, v, 1.0) >= 0)
+                    else if (!(beyond > FLOAT_DECIDES_SIGN_ABOVE * error) && exact_corner_sign(axis, t, u, v, 1.0) >= 0)
                         below = false;
                 }
             }
             if (above || below) return true;
         }
         return false;
+    }
+
+    /// World axis k of the four points, for exact_corner_sign.
+    CornerAxis corner_axis(int k) const {
+        CornerAxis axis;
+        for (int i = 0; i < 4; ++i) {
+            axis.start[i] = start_[i][k];
+            axis.end[i] = end_[i][k];
+        }
+        axis.w_plus = pairs_.w_plus;
+        axis.w_minus = pairs_.w_minus;
+        axis.e1_plus = pairs_.e1_plus;
+        axis.e1_minus = pairs_.e1_minus;
+        axis.e2_plus = pairs_.e2_plus;
+        axis.e2_minus = pairs_.e2_minus;
+        axis.thickness = thickness_;
+        return axis;
     }
 
     bool outside_domain(const ParameterBox& box) const {
@@ -474,55 +500,17 @@ public:
     }
 
 private:
-    /// Exact sign of F_k(t,u,v) + offset_sign x (thickness + guard): with
-    /// offset_sign -1, positive means the corner lies beyond +thickness;
-    /// with +1, negative means beyond -thickness. Positions are the exact
-    /// linear interpolation s + t e - t s of the step's end points, and F =
-    /// (p[w+] - p[w-]) - u (p[e1+] - p[e1-]) - v (p[e2+] - p[e2-]), every
-    /// product an error-free transform. The guard CCD_MIN_ABSOLUTE_ERROR
-    /// covers products that underflow. Terms whose exact value is known
-    /// without products are simplified exactly (the sum, hence the sign, is
-    /// unchanged): a difference of two points with equal start and end
-    /// coordinates is zero, and a position is s at t = 0 or when the point
-    /// holds still on this axis (s = e), and e at t = 1.
-    int exact_corner_sign(int k, double t, double u, double v, double offset_sign) const {
-        expansion::ExactSum sum;
-        const struct {
-            double coefficient;
-            int plus, minus;
-        } differences[3] = {{1.0, pairs_.w_plus, pairs_.w_minus},
-                            {-u, pairs_.e1_plus, pairs_.e1_minus},
-                            {-v, pairs_.e2_plus, pairs_.e2_minus}};
-        for (const auto& difference : differences) {
-            if (difference.coefficient == 0.0) continue;
-            if (start_[difference.plus][k] == start_[difference.minus][k] &&
-                end_[difference.plus][k] == end_[difference.minus][k])
-                continue;
-            for (const int point : {difference.plus, difference.minus}) {
-                const double c = point == difference.plus ? difference.coefficient : -difference.coefficient;
-                const double s = start_[point][k], e = end_[point][k];
-                if (t == 0.0 || s == e) {
-                    sum.add_product(c, s);
-                } else if (t == 1.0) {
-                    sum.add_product(c, e);
-                } else {
-                    sum.add_product(c, s);
-                    sum.add_triple_product(c, t, e);
-                    sum.add_triple_product(c, t, s, -1.0);
-                }
-            }
-        }
-        sum.add(offset_sign * thickness_);
-        sum.add(offset_sign * CCD_MIN_ABSOLUTE_ERROR);
-        return sum.sign();
-    }
-
     /// Intersects [lower[p], upper[p]] (fractions of the box along parameter
     /// p) with the range where constraint |g| <= bound can hold, g given by
     /// its 8 corner values (index it*4 + iu*2 + iv).
     static void clip_constraint(const double g[8], double bound, double lower[3], double upper[3]) {
-        for (int c = 0; c < 8; ++c)
+        bool within = true;
+        for (int c = 0; c < 8; ++c) {
             if (!std::isfinite(g[c])) return;
+            within = within && g[c] <= bound && g[c] >= -bound;
+        }
+        // Every edge then holds the constraint over its whole length.
+        if (within) return;
         for (int p = 0; p < 3; ++p) {
             const int bit = 4 >> p;
             // Earliest / latest fraction where some edge is <= bound, and
@@ -563,6 +551,9 @@ private:
     double end_[4][3];
     double displacement_[4][3];
     double bound_[3];
+    /// Per world axis: largest absolute input coordinate (scene units).
+    double max_abs_[3];
+    bool directions_chosen_ = false;
     double exact_margin_[3];
     /// Per world axis: bound on the rounding error of one float corner value (scene units).
     double corner_error_[3];
@@ -578,29 +569,35 @@ private:
 
 } // namespace
 
-CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,
-                             double t_max) {
+namespace {
+
+/// The search loop, from `heap` after `iterations` boxes; `first`, when
+/// given, is the box to take before any from the heap (as if just popped).
+/// With a `fork`, the first box on which a search at fork->finer_tolerance
+/// would split differently is recorded there (see FinerSearchFork).
+CCDResult search_boxes(RootSearch& search, const CCDSettings& settings, double t_max,
+                       std::vector<ParameterBox>& heap, int64_t iterations, const ParameterBox* first,
+                       FinerSearchFork* fork) {
     CCDResult result;
-    t_max = std::min(t_max, 1.0);
-    if (!(t_max > 0.0)) return result;
-
-    const RootSearch search(f, settings);
     const double tolerance = std::max(settings.tolerance, CCD_MIN_TOLERANCE);
-    double tolerances[3];
-    search.parameter_tolerances(tolerance, tolerances);
+    // Computed at the first split: most queries end on their first box.
+    double tolerances[3] = {0.0, 0.0, 0.0};
+    double finer_tolerances[3] = {0.0, 0.0, 0.0};
+    bool tolerances_known = false;
     const int64_t max_iterations = settings.max_iterations;
-
-    thread_local std::vector<ParameterBox> heap;
-    heap.clear();
-    heap.push_back(ParameterBox{0.0, t_max, 0.0, 1.0, 0.0, 1.0, 0});
     const LaterFirst later_first;
     BoxImage image;
-    int64_t iterations = 0;
 
-    while (!heap.empty()) {
-        std::pop_heap(heap.begin(), heap.end(), later_first);
-        const ParameterBox box = heap.back();
-        heap.pop_back();
+    while (first || !heap.empty()) {
+        ParameterBox box;
+        if (first) {
+            box = *first;
+            first = nullptr;
+        } else {
+            std::pop_heap(heap.begin(), heap.end(), later_first);
+            box = heap.back();
+            heap.pop_back();
+        }
         if (box.t_lo >= t_max) break;
 
         if (max_iterations > 0 && iterations >= max_iterations) {
@@ -635,6 +632,7 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         }
 
         if (box.final_check) {
+            if (search.excluded_exactly(box, image)) continue;
             result.hit = true;
             result.toi = box.t_lo;
             result.reached_tolerance = box.t_hi - box.t_lo;
@@ -642,9 +640,15 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
             return result;
         }
 
-        const double old_widths[3] = {box.t_hi - box.t_lo, box.u_hi - box.u_lo, box.v_hi - box.v_lo};
         ParameterBox clipped = box;
         if (!search.clip(clipped, image)) continue;
+        if (search.excluded_exactly(box, image)) continue;
+        if (!tolerances_known) {
+            search.parameter_tolerances(tolerance, tolerances);
+            if (fork) search.parameter_tolerances(std::max(fork->finer_tolerance, CCD_MIN_TOLERANCE), finer_tolerances);
+            tolerances_known = true;
+        }
+        const double old_widths[3] = {box.t_hi - box.t_lo, box.u_hi - box.u_lo, box.v_hi - box.v_lo};
         const double widths[3] = {clipped.t_hi - clipped.t_lo, clipped.u_hi - clipped.u_lo,
                                   clipped.v_hi - clipped.v_lo};
         // Fraction of each parameter range the clip kept. F is linear along
@@ -653,6 +657,19 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
         for (int d = 0; d < 3; ++d) {
             if (old_widths[d] > 0.0) kept[d] = widths[d] / old_widths[d];
             variation[d] *= kept[d];
+        }
+        if (fork && !fork->diverged) {
+            // Tolerances only decide which parameters may split; while they
+            // agree on that, the finer search takes the same steps.
+            for (int d = 0; d < 3; ++d) {
+                if ((widths[d] > tolerances[d]) != (widths[d] > finer_tolerances[d])) {
+                    fork->diverged = true;
+                    fork->box = box;
+                    fork->heap = heap;
+                    fork->iterations = iterations - 1;
+                    break;
+                }
+            }
         }
         int split_axis = -1;
         double best_variation = -1.0;
@@ -720,6 +737,29 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
     }
     result.iterations = iterations;
     return result;
+}
+
+} // namespace
+
+CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings, double t_max,
+                             FinerSearchFork* fork) {
+    if (fork) fork->diverged = false;
+    t_max = std::min(t_max, 1.0);
+    if (!(t_max > 0.0)) return CCDResult{};
+    RootSearch search(f, settings);
+    thread_local std::vector<ParameterBox> heap;
+    heap.clear();
+    heap.push_back(ParameterBox{0.0, t_max, 0.0, 1.0, 0.0, 1.0, 0});
+    return search_boxes(search, settings, t_max, heap, 0, nullptr, fork);
+}
+
+CCDResult resume_finer_search(const MultilinearDistance& f, const CCDSettings& finer_settings, double t_max,
+                              const FinerSearchFork& fork) {
+    t_max = std::min(t_max, 1.0);
+    RootSearch search(f, finer_settings);
+    thread_local std::vector<ParameterBox> heap;
+    heap = fork.heap;
+    return search_boxes(search, finer_settings, t_max, heap, fork.iterations, &fork.box, nullptr);
 }
 
 } // namespace usdksl

@@ -6,6 +6,7 @@
 ///        pair moving linearly over one step.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/ccd/finer_search_fork.hpp"
 #include "usdksl/types.hpp"
 
 #include <array>
@@ -46,6 +47,13 @@ struct MultilinearDistance {
 ///        vertex-face pairs the root search picks which face corner is the
 ///        (u,v) origin (the face is the same point set either way).
 CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,
-                             double t_max);
+                             double t_max, FinerSearchFork* fork = nullptr);
+
+/// @brief find_earliest_root(f, finer_settings, t_max), for a fork that a
+///        search of the same f, thickness, iteration cap and t_max recorded
+///        with diverged set and finer_tolerance = finer_settings.tolerance:
+///        the same answer, bit for bit, without redoing the shared steps.
+CCDResult resume_finer_search(const MultilinearDistance& f, const CCDSettings& finer_settings, double t_max,
+                              const FinerSearchFork& fork);
 
 } // namespace usdksl

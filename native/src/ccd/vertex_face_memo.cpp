@@ -69,7 +69,8 @@ VertexFaceMemo::~VertexFaceMemo() = default;
 
 CCDResult VertexFaceMemo::vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
                                           const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
-                                          const CCDSettings& settings, double t_max, bool& reused) {
+                                          const CCDSettings& settings, double t_max, bool& reused,
+                                          FinerSearchFork* fork) {
     if (!storage_) storage_ = std::make_unique<Storage>();
     Storage& storage = *storage_;
     Key key;
@@ -97,7 +98,8 @@ CCDResult VertexFaceMemo::vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, co
     }
     reused = false;
     const CCDResult result =
-        usdksl::vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, t_max);
+        fork ? usdksl::vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, t_max, *fork)
+             : usdksl::vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, t_max);
     header.hash[oldest] = hash;
     header.stamp[oldest] = now;
     ways[oldest].key = key;

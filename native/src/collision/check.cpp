@@ -239,6 +239,9 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     // slack and find candidates; every continuous answer (brute force's too)
     // is confirmed on the raw samples at a finer tolerance. The reference and
     // the discrete check read the raw samples directly.
+    // Their candidates found on raw-sample steps carry that step's confirming
+    // test (TrianglePairTester::carry_confirmations); the reference confirms
+    // everything afresh, so it stays independent of that shortcut.
     const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
     const Scene scene(meshes, merge);
     const int32_t threads = resolve_threads(options.threads);
@@ -252,6 +255,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     if (planned.size() == 1) {
         result.counters.time_windows = 1;
         TrianglePairTester tester(scene, options.ccd, result.counters);
+        if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
         run_method(scene, mesh_pairs, options, tester, result.counters);
         // The discrete baseline answers at sampled instants; it stays what it is, misses included.
         result.contacts = options.method == Method::Discrete
@@ -274,6 +278,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         window_options.t_end = window.end;
         window_options.progress = progress.for_window(window);
         TrianglePairTester tester(local, options.ccd, window.counters);
+        if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
         run_method(local, mesh_pairs, window_options, tester, window.counters, cuttable ? &window.stop : nullptr);
         if (!cuttable) window.stop.reach(window.end);
         window.candidates = tester.sorted_contacts();

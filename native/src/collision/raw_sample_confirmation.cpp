@@ -10,15 +10,6 @@
 namespace usdksl {
 namespace {
 
-/// Tolerance (interval fraction) of the confirming search: finer than the
-/// candidate search's by CONFIRMATION_TOLERANCE_FACTOR, never below the root
-/// finder's floor.
-CCDSettings confirming(const CCDSettings& settings) {
-    CCDSettings fine = settings;
-    fine.tolerance = std::max(settings.tolerance * CONFIRMATION_TOLERANCE_FACTOR, CCD_MIN_TOLERANCE);
-    return fine;
-}
-
 /// Tests one triangle pair on the raw samples from time code `from` on; the
 /// tester records its first contact.
 void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, double t_begin, double t_end) {
@@ -39,7 +30,9 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
     while (true) {
         const PairStep step = raw.step_containing(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, t);
         if (!step.valid() || step.begin >= t_end) return;
-        if (raw.test_step(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, step)) return;
+        // The candidate's own step may come with its test worked out already.
+        const bool carried = c.carried.known && step.begin == c.carried.begin && step.end == c.carried.end;
+        if (carried ? raw.apply_carried(c, step) : raw.test_step(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, step)) return;
         t = step.end;
     }
 }
@@ -48,6 +41,12 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
 constexpr int64_t kProgressEveryCandidates = 1 << 7;
 
 } // namespace
+
+CCDSettings confirming(const CCDSettings& settings) {
+    CCDSettings fine = settings;
+    fine.tolerance = std::max(settings.tolerance * CONFIRMATION_TOLERANCE_FACTOR, CCD_MIN_TOLERANCE);
+    return fine;
+}
 
 void mark_meshes_to_confirm(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                             std::vector<FlightplanKind>& kinds) {

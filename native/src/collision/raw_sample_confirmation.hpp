@@ -22,6 +22,11 @@ namespace usdksl {
 ///        so a reported time is the first touch, not the first near approach.
 constexpr double CONFIRMATION_TOLERANCE_FACTOR = 1e-3;
 
+/// @brief The confirming search's settings: `settings` with the tolerance
+///        CONFIRMATION_TOLERANCE_FACTOR times finer, never below the root
+///        finder's floor CCD_MIN_TOLERANCE.
+CCDSettings confirming(const CCDSettings& settings);
+
 /// @brief Re-tests every candidate on the raw samples, with `settings.thickness`
 ///        alone and the tolerance CONFIRMATION_TOLERANCE_FACTOR x
 ///        `settings.tolerance`, from the raw sample interval that holds the
@@ -31,7 +36,9 @@ constexpr double CONFIRMATION_TOLERANCE_FACTOR = 1e-3;
 ///        the pair's first contact; a candidate that never touches on the raw
 ///        samples is dropped. Every reported time comes from one raw sample
 ///        interval, whatever the method or time window found the candidate, so
-///        answers are bit-identical across them.
+///        answers are bit-identical across them. A candidate that carries
+///        its step's confirming test (CarriedConfirmation) takes it from
+///        there instead of testing that step again: the same answer.
 /// @return The confirmed contacts sorted by contact_before.
 std::vector<Contact> confirm_on_raw_samples(const Scene& candidate_scene, const std::vector<Contact>& candidates,
                                             const CCDSettings& settings, double t_begin, double t_end,

@@ -61,8 +61,23 @@ bool edge_pierces_triangle(const Triangle& ids_a, const std::array<Vec3, 3>& a, 
     return false;
 }
 
-TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b,
-                                      bool same_mesh, const CCDSettings& settings, VertexFaceMemo* memo) {
+namespace {
+
+/// Four points of a primitive pair at the step's start and end, in the
+/// argument order of vertex_face_ccd / edge_edge_ccd.
+struct PrimitivePoints {
+    bool edge_edge;
+    std::array<Vec3, 4> s, e;
+};
+
+/// The primitive pairs of triangle_pair_ccd in their fixed order, each asked
+/// of `query(index, points, t_max, reused)` (index 0-2: vertices of A
+/// against B, 3-5: vertices of B against A, 6-14: edge i of A against edge j
+/// of B at 6 + 3 i + j), which answers as vertex_face_ccd / edge_edge_ccd
+/// would.
+template <class Query>
+TrianglePairContact search_triangle_pair(const MovingTriangle& a, const MovingTriangle& b, bool same_mesh,
+                                         const CCDSettings& settings, Query&& query) {
     TrianglePairContact contact;
     // Swept boxes of the six vertices: a linear trajectory stays inside the box
     // of its two end positions.
@@ -91,12 +106,9 @@ TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTrian
         }
     };
 
-    auto vertex_face = [&](const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
-                           const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1) {
-        if (!memo) return vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, best_toi);
+    auto ask = [&](int index, const PrimitivePoints& points) {
         bool reused = false;
-        const CCDResult result =
-            memo->vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, best_toi, reused);
+        const CCDResult result = query(index, points, best_toi, reused);
         contact.reused_queries += reused ? 1 : 0;
         return result;
     };
@@ -105,14 +117,14 @@ TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTrian
     for (int i = 0; i < 3 && best_toi > 0.0; ++i) {
         if (same_mesh && contains_id(b.ids, a.ids[i])) continue;
         if (!boxes_within(swept_a[i], triangle_b, reach)) continue;
-        consider(vertex_face(a.t0[i], b.t0[0], b.t0[1], b.t0[2], a.t1[i], b.t1[0], b.t1[1], b.t1[2]),
+        consider(ask(i, {false, {a.t0[i], b.t0[0], b.t0[1], b.t0[2]}, {a.t1[i], b.t1[0], b.t1[1], b.t1[2]}}),
                  ContactFeature::VertexFace);
     }
     // Vertices of B against triangle A.
     for (int j = 0; j < 3 && best_toi > 0.0; ++j) {
         if (same_mesh && contains_id(a.ids, b.ids[j])) continue;
         if (!boxes_within(swept_b[j], triangle_a, reach)) continue;
-        consider(vertex_face(b.t0[j], a.t0[0], a.t0[1], a.t0[2], b.t1[j], a.t1[0], a.t1[1], a.t1[2]),
+        consider(ask(3 + j, {false, {b.t0[j], a.t0[0], a.t0[1], a.t0[2]}, {b.t1[j], a.t1[0], a.t1[1], a.t1[2]}}),
                  ContactFeature::FaceVertex);
     }
     // Edges of A against edges of B.
@@ -124,13 +136,92 @@ TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTrian
             const int j1 = (j + 1) % 3;
             if (same_mesh && edge_shares_vertex(a.ids[i], a.ids[i1], b.ids[j], b.ids[j1])) continue;
             if (!boxes_within(edge_a, swept_b[j].merged(swept_b[j1]), reach)) continue;
-            consider(edge_edge_ccd(a.t0[i], a.t0[i1], b.t0[j], b.t0[j1], a.t1[i], a.t1[i1], b.t1[j],
-                                   b.t1[j1], settings, best_toi),
+            consider(ask(6 + 3 * i + j,
+                         {true, {a.t0[i], a.t0[i1], b.t0[j], b.t0[j1]}, {a.t1[i], a.t1[i1], b.t1[j], b.t1[j1]}}),
                      ContactFeature::EdgeEdge);
         }
     }
     if (!contact.hit) contact.toi = 1.0;
     return contact;
+}
+
+/// vertex_face_ccd / edge_edge_ccd of `p` up to t_max, the vertex-face ones
+/// through `memo` when given, filling `fork` when given.
+CCDResult primitive_ccd(const PrimitivePoints& p, const CCDSettings& settings, double t_max, VertexFaceMemo* memo,
+                        bool& reused, FinerSearchFork* fork) {
+    const auto& s = p.s;
+    const auto& e = p.e;
+    if (p.edge_edge) {
+        return fork ? edge_edge_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings, t_max, *fork)
+                    : edge_edge_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings, t_max);
+    }
+    if (memo) return memo->vertex_face_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings, t_max, reused, fork);
+    return fork ? vertex_face_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings, t_max, *fork)
+                : vertex_face_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings, t_max);
+}
+
+/// The finer search of `p` from where `fork` parted.
+CCDResult resumed_primitive_ccd(const PrimitivePoints& p, const CCDSettings& finer_settings, double t_max,
+                                const FinerSearchFork& fork) {
+    const auto& s = p.s;
+    const auto& e = p.e;
+    return p.edge_edge ? edge_edge_ccd_resumed(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], finer_settings, t_max, fork)
+                       : vertex_face_ccd_resumed(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], finer_settings, t_max, fork);
+}
+
+} // namespace
+
+TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b, bool same_mesh,
+                                      const CCDSettings& settings, VertexFaceMemo* memo, FinerReplay* replay) {
+    if (replay) replay->start(settings);
+    return search_triangle_pair(a, b, same_mesh, settings,
+                                [&](int index, const PrimitivePoints& points, double t_max, bool& reused) {
+                                    FinerSearchFork* fork = replay ? replay->fork_for(index, t_max) : nullptr;
+                                    const CCDResult result = primitive_ccd(points, settings, t_max, memo, reused, fork);
+                                    if (replay) replay->keep(index, result, reused);
+                                    return result;
+                                });
+}
+
+TrianglePairContact finer_triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b, bool same_mesh,
+                                            const CCDSettings& finer_settings, const FinerReplay& replay) {
+    return search_triangle_pair(a, b, same_mesh, finer_settings,
+                                [&](int index, const PrimitivePoints& points, double t_max, bool& reused) {
+                                    const FinerReplay::Record* kept = replay.record_for(index, t_max, finer_settings);
+                                    if (kept && !kept->fork.diverged) return kept->result;
+                                    if (kept) return resumed_primitive_ccd(points, finer_settings, t_max, kept->fork);
+                                    return primitive_ccd(points, finer_settings, t_max, nullptr, reused, nullptr);
+                                });
+}
+
+void FinerReplay::start(const CCDSettings& settings) {
+    settings_ = settings;
+    for (Record& record : records_) record.asked = false;
+}
+
+FinerSearchFork* FinerReplay::fork_for(int index, double t_max) {
+    Record& record = records_[static_cast<size_t>(index)];
+    record.asked = true;
+    record.t_max = t_max;
+    record.fork.finer_tolerance = finer_tolerance_;
+    record.fork.diverged = false;
+    return &record.fork;
+}
+
+void FinerReplay::keep(int index, const CCDResult& result, bool reused) {
+    Record& record = records_[static_cast<size_t>(index)];
+    record.result = result;
+    // A memo answer comes without a fork: its finer answer is not known.
+    record.known = !reused;
+}
+
+const FinerReplay::Record* FinerReplay::record_for(int index, double t_max, const CCDSettings& finer) const {
+    const Record& record = records_[static_cast<size_t>(index)];
+    if (!record.asked || !record.known || record.t_max != t_max) return nullptr;
+    if (finer.tolerance != finer_tolerance_ || finer.thickness != settings_.thickness ||
+        finer.max_iterations != settings_.max_iterations)
+        return nullptr;
+    return &record;
 }
 
 bool triangle_pair_intersect_static(const Triangle& ids_a, const std::array<Vec3, 3>& a,

@@ -78,18 +78,24 @@ bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b
     canonical_order(mesh_a, tri_a, mesh_b, tri_b);
     return test_positions(mesh_a, tri_a, mesh_b, tri_b, step, scene_.triangle_at(mesh_a, tri_a, step.begin),
                           scene_.triangle_at(mesh_a, tri_a, step.end), scene_.triangle_at(mesh_b, tri_b, step.begin),
-                          scene_.triangle_at(mesh_b, tri_b, step.end));
+                          scene_.triangle_at(mesh_b, tri_b, step.end),
+                          !scene_.merged(mesh_a) && !scene_.merged(mesh_b));
 }
 
 bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
                                         const PairStep& step, const std::array<Vec3, 3>& a0,
                                         const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
-                                        const std::array<Vec3, 3>& b1) {
+                                        const std::array<Vec3, 3>& b1, bool raw_positions) {
     ++counters_.narrow_phase_tests;
     const MovingTriangle a{scene_.meshes[mesh_a].triangles[tri_a], a0, a1};
     const MovingTriangle b{scene_.meshes[mesh_b].triangles[tri_b], b0, b1};
-    const TrianglePairContact hit =
-        triangle_pair_ccd(a, b, mesh_a == mesh_b, settings_for(mesh_a, mesh_b), &vertex_face_memo_);
+    const CCDSettings settings = settings_for(mesh_a, mesh_b);
+    // The raw-sample confirmation tests this very step with these positions
+    // at the user's thickness: only then is its answer worked out here.
+    FinerReplay* replay = finer_ && raw_positions && settings.thickness == settings_.thickness
+                              ? finer_.get()
+                              : nullptr;
+    const TrianglePairContact hit = triangle_pair_ccd(a, b, mesh_a == mesh_b, settings, &vertex_face_memo_, replay);
     counters_.primitive_queries += hit.queries;
     counters_.reused_queries += hit.reused_queries;
     if (hit.undecided) ++counters_.undecided_queries;
@@ -102,6 +108,36 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
     contact.tri_b = tri_b;
     contact.feature = hit.feature;
     contact.undecided = hit.undecided;
+    if (replay) {
+        CCDSettings finer = settings;
+        finer.tolerance = finer_tolerance_;
+        const TrianglePairContact confirming = finer_triangle_pair_ccd(a, b, mesh_a == mesh_b, finer, *replay);
+        contact.carried = {true,           step.begin,     step.end,           confirming.hit,
+                           confirming.toi, confirming.feature, confirming.undecided, confirming.queries};
+    }
+    record(contact);
+    return true;
+}
+
+void TrianglePairTester::carry_confirmations(double finer_tolerance) {
+    finer_tolerance_ = finer_tolerance;
+    finer_ = std::make_unique<FinerReplay>(finer_tolerance);
+}
+
+bool TrianglePairTester::apply_carried(const Contact& candidate, const PairStep& step) {
+    ++counters_.narrow_phase_tests;
+    const CarriedConfirmation& carried = candidate.carried;
+    counters_.primitive_queries += carried.queries;
+    if (carried.undecided) ++counters_.undecided_queries;
+    if (!carried.hit) return false;
+    Contact contact;
+    contact.time = step.begin + carried.toi * (step.end - step.begin);
+    contact.mesh_a = candidate.mesh_a;
+    contact.tri_a = candidate.tri_a;
+    contact.mesh_b = candidate.mesh_b;
+    contact.tri_b = candidate.tri_b;
+    contact.feature = carried.feature;
+    contact.undecided = carried.undecided;
     record(contact);
     return true;
 }
@@ -160,9 +196,12 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         if (!std::isfinite(begin)) begin = std::min(t, end);
         // Every vertex's segment holds `begin` too (no breakpoint lies in (begin, t]).
         std::array<Vec3, 3> a0, a1, b0, b1;
+        // Positions at breakpoints of their own vertex are raw samples.
+        bool raw_positions = true;
         for (int i = 0; i < 6; ++i) {
             const Flightplans& p = *plans[i];
             const int64_t at_end = p.advance_segment(vertex[i], segment[i], end);
+            raw_positions = raw_positions && p.key_time(segment[i]) == begin && p.key_time(at_end) == end;
             Vec3& start = i < 3 ? a0[i] : b0[i - 3];
             Vec3& finish = i < 3 ? a1[i] : b1[i - 3];
             start = p.position_in_segment(vertex[i], segment[i], begin);
@@ -198,7 +237,8 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
             ++counters_.cleared_steps;
         } else if (begin >= until) {
             return done({begin, false});  // covering ahead stops before a step that needs the narrow phase
-        } else if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1)) {
+        } else if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1,
+                                  raw_positions)) {
             return done({end, true});
         }
         if (end >= until && (!cleared || end >= ahead_until)) return done({end, false});

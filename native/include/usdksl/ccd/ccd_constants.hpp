@@ -38,6 +38,16 @@ constexpr double EXACT_CHECK_ERROR_MULTIPLE = 2.0;
 constexpr double FLOAT_DECIDES_SIGN_BELOW = 1.5;
 constexpr double FLOAT_DECIDES_SIGN_ABOVE = 2.5;
 
+/// @brief The float filter in front of the exact corner sign: its running
+///        error bound, a sum of a few dozen rounded non-negative terms, is
+///        inflated by this factor (far more than its own rounding, about 30
+///        unit roundoffs), and the value must clear the bound by
+///        FILTERED_SIGN_MIN_MARGIN (scene units), far above
+///        CCD_MIN_ABSOLUTE_ERROR and any underflow, before its sign is taken
+///        (dimensionless).
+constexpr double FILTERED_SIGN_BOUND_INFLATION = 1.0 + 1e-12;
+constexpr double FILTERED_SIGN_MIN_MARGIN = 1e-200;
+
 /// @brief Largest input coordinate or thickness (scene units) for which the
 ///        exact check runs: products of three such numbers stay far from
 ///        overflow in the error-free transforms. Larger inputs keep the

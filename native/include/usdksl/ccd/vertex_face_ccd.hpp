@@ -3,6 +3,7 @@
 /// @brief Conservative continuous vertex-face test over one linear step.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/ccd/finer_search_fork.hpp"
 #include "usdksl/types.hpp"
 
 namespace usdksl {
@@ -23,6 +24,22 @@ CCDResult vertex_face_ccd(
     const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
     const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
     const CCDSettings& settings, double t_max);
+
+/// @brief The same query, also recording in `fork` (its finer_tolerance
+///        set by the caller) where it parts from the search at that finer
+///        tolerance; the answer is the same as without.
+CCDResult vertex_face_ccd(
+    const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+    const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+    const CCDSettings& settings, double t_max, FinerSearchFork& fork);
+
+/// @brief vertex_face_ccd(..., finer_settings, t_max) for a fork the same
+///        query recorded (diverged) at a coarser tolerance: the same answer,
+///        bit for bit, going on from where the searches parted.
+CCDResult vertex_face_ccd_resumed(
+    const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+    const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+    const CCDSettings& finer_settings, double t_max, const FinerSearchFork& fork);
 
 
 } // namespace usdksl

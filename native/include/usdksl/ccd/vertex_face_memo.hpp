@@ -16,6 +16,7 @@
 /// not symmetric under that, so their repeats are never bit-identical.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/ccd/finer_search_fork.hpp"
 #include "usdksl/types.hpp"
 
 #include <cstdint>
@@ -43,10 +44,12 @@ public:
 
     /// @brief vertex_face_ccd(p_t0, ..., c_t1, settings, t_max), from the
     ///        memo when these exact inputs were asked recently (then
-    ///        `reused` is set true), else computed and kept.
+    ///        `reused` is set true and `fork` left as it is), else computed
+    ///        (filling `fork` when given) and kept.
     CCDResult vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
                               const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
-                              const CCDSettings& settings, double t_max, bool& reused);
+                              const CCDSettings& settings, double t_max, bool& reused,
+                              FinerSearchFork* fork = nullptr);
 
 private:
     struct Storage;

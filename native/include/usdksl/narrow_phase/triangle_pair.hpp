@@ -4,6 +4,7 @@
 ///        linear step, and two triangles at one instant.
 
 #include "usdksl/ccd/ccd_settings.hpp"
+#include "usdksl/ccd/finer_search_fork.hpp"
 #include "usdksl/ccd/vertex_face_memo.hpp"
 #include "usdksl/narrow_phase/feature.hpp"
 #include "usdksl/types.hpp"
@@ -36,15 +37,62 @@ struct MovingTriangle {
     std::array<Vec3, 3> t1;
 };
 
+/// @brief What triangle_pair_ccd at one tolerance keeps for
+///        finer_triangle_pair_ccd of the same pair on the same step: per
+///        primitive query its t_max, its answer and where its search would
+///        part from the finer one (FinerSearchFork). Reused from call to
+///        call (one per thread).
+class FinerReplay {
+public:
+    /// @brief finer_tolerance: the finer search's tolerance (interval fraction).
+    explicit FinerReplay(double finer_tolerance) : finer_tolerance_(finer_tolerance) {}
+
+    struct Record {
+        bool asked = false;
+        /// False when the answer came from a memo, without a fork.
+        bool known = false;
+        double t_max = 1.0;
+        CCDResult result;
+        FinerSearchFork fork;
+    };
+
+    /// @brief Forgets the last call; `settings` are the coarser search's.
+    void start(const CCDSettings& settings);
+    /// @brief The fork for primitive query `index` (see triangle_pair_ccd), asked up to t_max.
+    FinerSearchFork* fork_for(int index, double t_max);
+    /// @brief Keeps query `index`'s answer; `reused`: it came from a memo.
+    void keep(int index, const CCDResult& result, bool reused);
+    /// @brief The kept query `index` when it was asked up to the same t_max
+    ///        and its fork was recorded for `finer` (same thickness and
+    ///        iteration cap, finer_tolerance); else nullptr.
+    const Record* record_for(int index, double t_max, const CCDSettings& finer) const;
+
+private:
+    double finer_tolerance_;
+    CCDSettings settings_;
+    std::array<Record, 15> records_;
+};
+
 /// @brief Earliest contact over one linear step between triangles A and B:
 ///        the minimum over their 6 vertex-face and 9 edge-edge primitive pairs.
 ///        When `same_mesh` is true, primitive pairs that share a vertex id are
 ///        never tested. Conservative: never misses a contact. With a `memo`,
 ///        vertex-face queries asked recently with the same inputs are answered
 ///        from it: the same answer bit for bit, at the cost of a lookup.
+///        With a `replay`, what finer_triangle_pair_ccd needs is kept there.
 TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b,
                                       bool same_mesh, const CCDSettings& settings,
-                                      VertexFaceMemo* memo = nullptr);
+                                      VertexFaceMemo* memo = nullptr, FinerReplay* replay = nullptr);
+
+/// @brief triangle_pair_ccd(a, b, same_mesh, finer_settings), bit for bit,
+///        for a `replay` that the last triangle_pair_ccd of the same a, b and
+///        same_mesh filled at a coarser tolerance (same thickness and
+///        iteration cap): a primitive query asked there up to the same t_max
+///        takes its answer from the coarser search when the two searches
+///        never parted, else goes on from where they parted; the rest are
+///        searched afresh.
+TrianglePairContact finer_triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b, bool same_mesh,
+                                            const CCDSettings& finer_settings, const FinerReplay& replay);
 
 /// @brief True when triangles A and B (positions at one instant) touch or
 ///        intersect (within settings.thickness), considering only primitives

@@ -9,6 +9,23 @@
 
 namespace usdksl {
 
+/// @brief A candidate's confirming answer, worked out where the candidate was
+///        found (see TrianglePairTester::carry_confirmations): the finer
+///        triangle-pair test of the raw step [begin, end) (time codes), as
+///        the raw-sample confirmation would compute it.
+struct CarriedConfirmation {
+    bool known = false;
+    double begin = 0.0;
+    double end = 0.0;
+    bool hit = false;
+    /// @brief Fraction of the step.
+    double toi = 1.0;
+    ContactFeature feature = ContactFeature::VertexFace;
+    bool undecided = false;
+    /// @brief Primitive queries of that test (counter).
+    int32_t queries = 0;
+};
+
 /// @brief First contact of one triangle pair. For self contacts mesh_a == mesh_b
 ///        and tri_a < tri_b; for inter contacts mesh_a < mesh_b.
 struct Contact {
@@ -22,6 +39,8 @@ struct Contact {
     ContactFeature feature = ContactFeature::VertexFace;
     /// @brief True when the narrow phase hit its iteration cap (counted as contact).
     bool undecided = false;
+    /// @brief Internal to candidates: their confirming answer on their step, when known.
+    CarriedConfirmation carried;
 };
 
 /// @brief Total order used for every contact list: time, then ids.

@@ -5,6 +5,7 @@
 
 #include "usdksl/ccd/ccd_settings.hpp"
 #include "usdksl/ccd/vertex_face_memo.hpp"
+#include "usdksl/narrow_phase/triangle_pair.hpp"
 #include "usdksl/narrow_phase/pair_clearance.hpp"
 #include "usdksl/scene/contact.hpp"
 #include "usdksl/scene/counters.hpp"
@@ -12,6 +13,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -71,6 +73,20 @@ public:
                        bool use_clearance, ClearanceRun* carried = nullptr,
                        double ahead_until = -std::numeric_limits<double>::infinity());
 
+    /// @brief From now on, each continuous contact found on a raw-sample
+    ///        step (every position its vertex's raw sample, no merge slack)
+    ///        carries the same pair's test of that step at `finer_tolerance`
+    ///        (interval fraction; the raw-sample confirmation's), which
+    ///        finer_triangle_pair_ccd works out from this test's searches
+    ///        where they part from the finer ones: a fraction of a fresh
+    ///        search's cost, the same answer.
+    void carry_confirmations(double finer_tolerance);
+
+    /// @brief Records the contact a candidate's carried confirmation gives
+    ///        on `step` (the carried one) and returns whether it hit; counts
+    ///        it as one narrow-phase test.
+    bool apply_carried(const Contact& candidate, const PairStep& step);
+
     /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);
 
@@ -90,9 +106,12 @@ private:
     CCDSettings settings_for(int32_t mesh_a, int32_t mesh_b) const;
     /// Narrow phase of one canonically ordered pair over `step`, given the
     /// positions at its ends; records and returns true on contact.
+    /// `raw_positions`: every position is its vertex's raw sample, as the
+    /// raw-sample confirmation reads it (then a contact may carry its
+    /// confirmation).
     bool test_positions(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, const PairStep& step,
                         const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
-                        const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1);
+                        const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1, bool raw_positions);
     void record(const Contact& contact);
 
     const Scene& scene_;
@@ -104,6 +123,9 @@ private:
     /// Repeated vertex-face queries of this tester's narrow phase (a tester
     /// is used by one thread at a time).
     VertexFaceMemo vertex_face_memo_;
+    /// Set by carry_confirmations.
+    std::unique_ptr<FinerReplay> finer_;
+    double finer_tolerance_ = 0.0;
 };
 
 } // namespace usdksl
