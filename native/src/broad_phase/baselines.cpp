@@ -147,7 +147,7 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
 }
 
 void run_brute_force(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                     const CheckOptions& options, TrianglePairTester& tester) {
+                     const CheckOptions& options, TrianglePairTester& tester, WindowStop* stop) {
     ProgressTicker ticker(options, tester);
     for (const auto& [ma, mb] : mesh_pairs) {
         const int32_t na = static_cast<int32_t>(scene.meshes[ma].triangles.size());
@@ -169,6 +169,7 @@ void run_brute_force(const Scene& scene, const std::vector<std::pair<int32_t, in
         }
         ticker.report(options.t_end);
     }
+    if (stop) stop->reach(options.t_end);
 }
 
 } // namespace usdksl

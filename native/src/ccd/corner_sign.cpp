@@ -18,9 +18,9 @@ struct Difference {
 };
 
 void differences_of(const CornerAxis& axis, double u, double v, Difference out[3]) {
-    out[0] = {1.0, axis.w_plus, axis.w_minus};
-    out[1] = {-u, axis.e1_plus, axis.e1_minus};
-    out[2] = {-v, axis.e2_plus, axis.e2_minus};
+    out[0] = {1.0, axis.pairs.w_plus, axis.pairs.w_minus};
+    out[1] = {-u, axis.pairs.e1_plus, axis.pairs.e1_minus};
+    out[2] = {-v, axis.pairs.e2_plus, axis.pairs.e2_minus};
 }
 
 } // namespace

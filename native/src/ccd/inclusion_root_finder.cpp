@@ -36,9 +36,6 @@ struct LaterFirst {
 };
 
 /// Point-pair indices (minuend, subtrahend) of W, E1, E2 per primitive kind.
-struct PairIndices {
-    int w_plus, w_minus, e1_plus, e1_minus, e2_plus, e2_minus;
-};
 constexpr PairIndices VERTEX_FACE_PAIRS{0, 1, 2, 1, 3, 1};
 constexpr PairIndices EDGE_EDGE_PAIRS{0, 2, 0, 1, 3, 2};
 
@@ -445,12 +442,7 @@ public:
             axis.start[i] = start_[i][k];
             axis.end[i] = end_[i][k];
         }
-        axis.w_plus = pairs_.w_plus;
-        axis.w_minus = pairs_.w_minus;
-        axis.e1_plus = pairs_.e1_plus;
-        axis.e1_minus = pairs_.e1_minus;
-        axis.e2_plus = pairs_.e2_plus;
-        axis.e2_minus = pairs_.e2_minus;
+        axis.pairs = pairs_;
         axis.thickness = thickness_;
         return axis;
     }

@@ -70,59 +70,54 @@ struct WindowCancelled {};
 /// True when the method honours WindowStop, so a running window can be cut.
 bool cuts_windows(Method method) { return method != Method::BruteForce; }
 
-/// Runs body(window) for every window the schedule hands out, on up to
-/// `threads` threads (the caller's included); rethrows the first exception
-/// (a WindowCancelled only follows another one and is not reported).
-template <typename Body>
-void check_windows_in_parallel(int32_t threads, WindowSchedule& schedule, Body body) {
+/// Runs body(item) on `workers` threads (the caller's included) for every
+/// item take(item) hands out until it returns false; after an exception,
+/// hand_out_no_more() is called so the other threads stop taking items, and
+/// the first exception is rethrown (a WindowCancelled only follows another
+/// one and is not reported).
+template <typename Item, typename Take, typename Body, typename Stop>
+void run_on_threads(int32_t workers, Take take, Body body, Stop hand_out_no_more) {
     std::exception_ptr failure;
     std::mutex failure_mutex;
     const auto work = [&]() {
-        while (ScheduledWindow* window = schedule.next()) {
+        Item item;
+        while (take(item)) {
             try {
-                body(*window);
+                body(item);
             } catch (const WindowCancelled&) {
-                schedule.cancel();
+                hand_out_no_more();
             } catch (...) {
                 std::lock_guard<std::mutex> lock(failure_mutex);
                 if (!failure) failure = std::current_exception();
-                schedule.cancel();
+                hand_out_no_more();
             }
-            schedule.finish(*window);
         }
     };
-    std::vector<std::thread> workers;
-    for (int32_t t = 1; t < threads; ++t) workers.emplace_back(work);
+    std::vector<std::thread> threads;
+    for (int32_t t = 1; t < workers; ++t) threads.emplace_back(work);
     work();
-    for (std::thread& worker : workers) worker.join();
+    for (std::thread& thread : threads) thread.join();
     if (failure) std::rethrow_exception(failure);
 }
 
-/// Runs body(k) for k in [0, count) on up to `threads` threads (the caller's
-/// included); rethrows the first exception.
+/// Runs body(window) for every window the schedule hands out, on `threads` threads.
+template <typename Body>
+void check_windows_in_parallel(int32_t threads, WindowSchedule& schedule, Body body) {
+    run_on_threads<ScheduledWindow*>(
+        threads, [&](ScheduledWindow*& window) { return (window = schedule.next()) != nullptr; },
+        [&](ScheduledWindow* window) {
+            body(*window);
+            schedule.finish(*window);
+        },
+        [&]() { schedule.cancel(); });
+}
+
+/// Runs body(k) for k in [0, count) on up to `threads` threads.
 template <typename Body>
 void parallel_for(int32_t threads, int32_t count, Body body) {
     std::atomic<int32_t> next{0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    const auto work = [&]() {
-        for (int32_t i = next++; i < count; i = next++) {
-            try {
-                body(i);
-            } catch (const WindowCancelled&) {
-                next = count;
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(failure_mutex);
-                if (!failure) failure = std::current_exception();
-                next = count;
-            }
-        }
-    };
-    std::vector<std::thread> workers;
-    for (int32_t t = 1; t < std::min(threads, count); ++t) workers.emplace_back(work);
-    work();
-    for (std::thread& worker : workers) worker.join();
-    if (failure) std::rethrow_exception(failure);
+    run_on_threads<int32_t>(
+        std::min(threads, count), [&](int32_t& k) { return (k = next++) < count; }, body, [&]() { next = count; });
 }
 
 /// Runs one method over [t_begin, t_end] on `scene`, recording candidates in
@@ -144,7 +139,7 @@ void run_method(const Scene& scene, const std::vector<std::pair<int32_t, int32_t
         run_discrete(scene, mesh_pairs, options, tester, counters, stop);
         break;
     case Method::BruteForce:
-        run_brute_force(scene, mesh_pairs, options, tester);
+        run_brute_force(scene, mesh_pairs, options, tester, stop);
         break;
     }
 }
@@ -279,23 +274,19 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         window_options.progress = progress.for_window(window);
         TrianglePairTester tester(local, options.ccd, window.counters);
         if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
-        run_method(local, mesh_pairs, window_options, tester, window.counters, cuttable ? &window.stop : nullptr);
-        if (!cuttable) window.stop.reach(window.end);
+        run_method(local, mesh_pairs, window_options, tester, window.counters, &window.stop);
         window.candidates = tester.sorted_contacts();
     });
-    // Each window as far as it covered: a window cut short ends where it
-    // stopped, at or after the begin of the window that took its rest.
+    // Each window as far as it covered (stop.reached): a window cut short ends
+    // where it stopped, at or after the begin of the window that took its rest.
     const std::vector<ScheduledWindow*> windows = schedule.in_time_order();
     const size_t count = windows.size();
-    std::vector<TimeWindow> covered(count);
     std::vector<std::vector<Contact>> confirmed(count);
-    std::vector<Counters> counters(count);
-    for (size_t w = 0; w < count; ++w) {
-        covered[w] = {windows[w]->begin, windows[w]->stop.reached.load()};
-        counters[w] = windows[w]->counters;
-    }
     std::vector<FlightplanKind> kinds;
-    for (const ScheduledWindow* window : windows) mark_meshes_to_confirm(scene, window->candidates, kinds);
+    for (const ScheduledWindow* window : windows) {
+        add_counters(result.counters, window->counters);
+        mark_meshes_to_confirm(scene, window->candidates, kinds);
+    }
     std::unique_ptr<Scene> raw_scene;
     if (options.method != Method::Discrete && std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
         raw_scene = std::make_unique<Scene>(meshes, kinds);
@@ -324,11 +315,12 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                     share.push_back(open[i]);
                 }
                 const Scene raw_local(*raw_scene);
-                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, covered[w].begin, covered[w].end,
-                                                part_counters[k], progress.for_window(*windows[w]));
+                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, windows[w]->begin,
+                                                windows[w]->stop.reached.load(), part_counters[k],
+                                                progress.for_window(*windows[w]));
             });
             for (int32_t k = 0; k < chunks; ++k) {
-                add_counters(counters[w], part_counters[k]);
+                add_counters(result.counters, part_counters[k]);
                 for (const Contact& c : parts[k]) {
                     confirmed_pairs.insert({c.mesh_a, c.tri_a, c.mesh_b, c.tri_b});
                     confirmed[w].push_back(c);
@@ -336,7 +328,6 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
             }
         }
     }
-    for (const Counters& c : counters) add_counters(result.counters, c);
     result.counters.time_windows = static_cast<int64_t>(count);
     result.contacts = merge_windows(confirmed);
     return result;

@@ -70,10 +70,4 @@ std::vector<TimeWindow> split_into_windows(const WindowCuts& cuts, int32_t count
     return windows;
 }
 
-std::vector<TimeWindow> split_into_windows(const Scene& scene,
-                                           const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                                           double t_begin, double t_end, int32_t count) {
-    return split_into_windows(WindowCuts(scene, mesh_pairs, t_begin, t_end), count);
-}
-
 } // namespace usdksl

@@ -61,9 +61,4 @@ private:
 ///        window when count <= 1 or the range is too short.
 std::vector<TimeWindow> split_into_windows(const WindowCuts& cuts, int32_t count);
 
-/// @brief split_into_windows over [t_begin, t_end] of the meshes in `mesh_pairs`.
-std::vector<TimeWindow> split_into_windows(const Scene& scene,
-                                           const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                                           double t_begin, double t_end, int32_t count);
-
 } // namespace usdksl

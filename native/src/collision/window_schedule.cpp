@@ -6,10 +6,7 @@ namespace usdksl {
 
 WindowSchedule::WindowSchedule(const WindowCuts& cuts, const std::vector<TimeWindow>& planned, bool cuttable)
     : cuts_(cuts), cuttable_(cuttable), planned_(planned.size()) {
-    for (const TimeWindow& w : planned) {
-        windows_.push_back(std::make_unique<ScheduledWindow>(w.begin, w.end));
-        windows_.back()->progress_time = w.begin;
-    }
+    for (const TimeWindow& w : planned) windows_.push_back(std::make_unique<ScheduledWindow>(w.begin, w.end));
 }
 
 ScheduledWindow* WindowSchedule::next() {
@@ -44,7 +41,6 @@ ScheduledWindow* WindowSchedule::cut_running_window() {
     const double at = cuts_.times()[static_cast<size_t>(cut)];
     windows_.push_back(std::make_unique<ScheduledWindow>(at, victim->end));
     ScheduledWindow* taken = windows_.back().get();
-    taken->progress_time = at;
     taken->started = true;
     victim->end = at;
     victim->stop.stop_at.store(at, std::memory_order_release);

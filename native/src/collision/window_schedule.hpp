@@ -19,7 +19,7 @@ namespace usdksl {
 /// @brief One time window of a check and what checking it found.
 struct ScheduledWindow {
     ScheduledWindow(double window_begin, double window_end)
-        : begin(window_begin), end(window_end), stop(window_begin, window_end) {}
+        : begin(window_begin), end(window_end), stop(window_begin, window_end), progress_time(window_begin) {}
 
     double begin;  ///< time code
     double end;    ///< planned end (time code); lowered when a thread takes the rest

@@ -18,12 +18,7 @@ namespace {
 /// Vertex-face point order of the root finder: W = p - a, E1 = b - a, E2 = c - a.
 CornerAxis vertex_face_axis(double thickness) {
     CornerAxis axis{};
-    axis.w_plus = 0;
-    axis.w_minus = 1;
-    axis.e1_plus = 2;
-    axis.e1_minus = 1;
-    axis.e2_plus = 3;
-    axis.e2_minus = 1;
+    axis.pairs = PairIndices{0, 1, 2, 1, 3, 1};
     axis.thickness = thickness;
     return axis;
 }

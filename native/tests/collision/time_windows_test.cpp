@@ -18,7 +18,7 @@ namespace {
 std::vector<TimeWindow> windows_of(int samples, int32_t count) {
     const std::vector<MeshAnimation> meshes{animations::folding_cloth(4, samples)};
     const Scene scene(meshes, false);
-    return split_into_windows(scene, {{0, 0}}, 0.0, samples - 1.0, count);
+    return split_into_windows(WindowCuts(scene, {{0, 0}}, 0.0, samples - 1.0), count);
 }
 
 } // namespace

@@ -32,7 +32,9 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
                   WindowStop* stop = nullptr);
 
 /// @brief Reference: every triangle pair on every flightplan step, no culling.
+///        It goes pair by pair, not step by step, so it cannot end early:
+///        given a `stop`, it only publishes that it reached t_end.
 void run_brute_force(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                     const CheckOptions& options, TrianglePairTester& tester);
+                     const CheckOptions& options, TrianglePairTester& tester, WindowStop* stop = nullptr);
 
 } // namespace usdksl

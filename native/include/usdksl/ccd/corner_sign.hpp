@@ -7,14 +7,19 @@
 
 namespace usdksl {
 
+/// @brief Which of a primitive pair's four points W, E1 and E2 are
+///        differences of (minuend, subtrahend).
+struct PairIndices {
+    int w_plus, w_minus, e1_plus, e1_minus, e2_plus, e2_minus;
+};
+
 /// @brief One world axis of a primitive pair moving linearly over a step:
 ///        the four points' coordinates at the step's start and end (scene
-///        units), and which points W, E1 and E2 are differences of
-///        (minuend, subtrahend).
+///        units), and which points W, E1 and E2 are differences of.
 struct CornerAxis {
     double start[4];
     double end[4];
-    int w_plus, w_minus, e1_plus, e1_minus, e2_plus, e2_minus;
+    PairIndices pairs;
     /// @brief Thickness (scene units, >= 0, finite).
     double thickness;
 };

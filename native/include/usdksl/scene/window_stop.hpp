@@ -13,7 +13,8 @@ namespace usdksl {
 ///
 /// A method that honours it (KSL, swept, discrete) looks at `stop_at` before
 /// each step after the first and stops before a step that begins at or after
-/// it; after each step it stores in `reached` the end of that step. Every
+/// it; after each step it stores in `reached` the end of that step. Brute
+/// force cannot stop early and stores its range's end when done. Every
 /// contact that first touches before `reached` is then among its candidates,
 /// so a run over [begin, reached] merged with one over [stop_at, end] (stop_at
 /// <= reached, earliest contact per triangle pair) equals a run over
