@@ -7,12 +7,20 @@ back until they are done, and any stop outside a command's own handling ends in 
 130 / 143 (docs/contracts.md, Stopping).
 """
 
+import os
 import sys
 
 from ..stopping import Stopped, deferred_stops, stop_on_signals
 
+#: numpy's OpenBLAS starts one thread per core when numpy is imported (about 40 ms here) and keeps them
+#: spinning after each matrix product; the check's only products are small transforms, and its native core
+#: runs its own threads on those cores. Set before anything imports numpy; a user's own setting wins.
+BLAS_THREADS_VARIABLES = ("OPENBLAS_NUM_THREADS",)
+
 
 def main() -> None:
+    for variable in BLAS_THREADS_VARIABLES:
+        os.environ.setdefault(variable, "1")
     try:
         with stop_on_signals():
             with deferred_stops():

@@ -7,6 +7,7 @@ without physics schemas) must not be among them; asking for a JSON report does l
 """
 
 import json
+import os
 import subprocess
 import sys
 
@@ -48,3 +49,26 @@ def test_a_json_report_looks_the_version_up(two_quads_shot, tmp_path):
     assert "importlib.metadata" in modules
     from usdksl.version import package_version
     assert json.loads((tmp_path / "report.json").read_text())["version"] == package_version() != ""
+
+
+BLAS_THREADS_AT_EXIT = """
+import atexit, os, sys
+atexit.register(lambda: sys.__stdout__.write(repr(os.environ.get("OPENBLAS_NUM_THREADS")) + "\\n"))
+sys.argv = ["usdksl"] + sys.argv[1:]
+from usdksl.cli.entry import main
+main()
+"""
+
+
+def _blas_threads_of_a_check(shot, out, environment):
+    completed = subprocess.run([sys.executable, "-P", "-c", BLAS_THREADS_AT_EXIT, "check", str(shot), "--out", str(out)],
+                               capture_output=True, text=True, env=environment)
+    assert completed.returncode == 1, completed.stderr
+    return completed.stdout.strip().splitlines()[-1]
+
+
+def test_a_check_keeps_numpy_blas_to_one_thread_unless_the_user_says_otherwise(two_quads_shot, tmp_path):
+    environment = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    assert _blas_threads_of_a_check(two_quads_shot, tmp_path / "default", environment) == "'1'"
+    environment["OPENBLAS_NUM_THREADS"] = "3"
+    assert _blas_threads_of_a_check(two_quads_shot, tmp_path / "user", environment) == "'3'"
