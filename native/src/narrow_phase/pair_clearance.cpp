@@ -32,6 +32,16 @@ double largest_coordinate(const std::array<Vec3, 3>& a, const std::array<Vec3, 3
 
 } // namespace
 
+double clearance_size_fraction(double tolerance) {
+    return std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
+}
+
+double clearance_reach(double contact_distance, double size_fraction, double diameter, double drift,
+                       double magnitude) {
+    return PAIR_CLEARANCE_CONTACT_REACH * contact_distance +
+           size_fraction * (diameter + PAIR_CLEARANCE_DRIFT_GROWTH * drift) + PAIR_CLEARANCE_ROUNDING * magnitude;
+}
+
 double pair_box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
     Vec3 lo = a[0], hi = a[0];
     for (int i = 0; i < 3; ++i) {
@@ -71,8 +81,8 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
         start_[3 + i] = b[i];
     }
     diameter_ = pair_box_diagonal(a, b);
-    contact_distance_ = PAIR_CLEARANCE_CONTACT_REACH * contact_distance;
-    size_fraction_ = std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
+    contact_distance_ = contact_distance;
+    size_fraction_ = clearance_size_fraction(tolerance);
     magnitude_ = largest_coordinate(a, b);
     drift_ = 0.0;
     distance_known_ = false;
@@ -111,7 +121,7 @@ void PairClearance::measure_distance() {
 }
 
 double PairClearance::plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {
-    return contact_distance_ + size_fraction_ * pair_box_diagonal(a, b) + PAIR_CLEARANCE_ROUNDING * magnitude_;
+    return clearance_reach(contact_distance_, size_fraction_, pair_box_diagonal(a, b), 0.0, magnitude_);
 }
 
 bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
@@ -130,9 +140,7 @@ bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3
     // The drift proof: distance_ - drift_ > reach only weakens as drift_ and
     // magnitude_ grow, so asking it now answers for every step since the start.
     if (!distance_known_) measure_distance();
-    const double reach = contact_distance_ + size_fraction_ * (diameter_ + 2.0 * drift_) +
-                         PAIR_CLEARANCE_ROUNDING * magnitude_;
-    return distance_ - drift_ > reach;
+    return distance_ - drift_ > clearance_reach(contact_distance_, size_fraction_, diameter_, drift_, magnitude_);
 }
 
 } // namespace usdksl

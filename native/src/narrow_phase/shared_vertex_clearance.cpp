@@ -26,12 +26,11 @@ void SharedVertexClearance::start(const Triangle& ids_a, const std::array<Vec3, 
     offsets_ = {a[(shared_a_ + 1) % 3] - reference, a[(shared_a_ + 2) % 3] - reference,
                 b[(shared_b_ + 1) % 3] - reference, b[(shared_b_ + 2) % 3] - reference};
     // PairClearance's drift proof holds while distance - drift > reach(drift),
-    // reach growing by twice the size fraction of the drift: solved for the drift.
-    const double size_fraction = std::max(PAIR_CLEARANCE_SIZE_FRACTION, PAIR_CLEARANCE_TOLERANCE_FACTOR * tolerance);
-    const double reach = PAIR_CLEARANCE_CONTACT_REACH * contact_distance + size_fraction * pair_box_diagonal(a, b) +
-                         PAIR_CLEARANCE_ROUNDING * magnitude;
+    // reach growing by the size fraction times the drift growth: solved for the drift.
+    const double size_fraction = clearance_size_fraction(tolerance);
+    const double reach = clearance_reach(contact_distance, size_fraction, pair_box_diagonal(a, b), 0.0, magnitude);
     const double distance = tested_primitive_distance(ids_a, a, ids_b, b, true);
-    drift_limit_ = (distance - reach) / (1.0 + 2.0 * size_fraction);
+    drift_limit_ = (distance - reach) / (1.0 + PAIR_CLEARANCE_DRIFT_GROWTH * size_fraction);
 }
 
 bool SharedVertexClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {

@@ -6,16 +6,17 @@
 #include "usdksl/narrow_phase/pair_clearance.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
+#include "narrow_phase/clearance_trials.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
-#include <random>
 
 using namespace usdksl;
 
 namespace {
 
-using Positions = std::array<Vec3, 3>;
+using trials::Positions;
 
 Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
 
@@ -39,38 +40,25 @@ TEST(PairClearance, ACardSlidingOverAnotherStaysClearedByTheSeparatingPlane) {
 
 TEST(PairClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
     // Random pairs drifting over several steps, some coming close enough to
-    // touch (within the thickness, even only along a diagonal): every step
-    // the certificate clears must be one the narrow phase misses.
-    std::mt19937 random(20240611);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const auto point = [&](double scale) -> Vec3 { return Vec3(unit(random), unit(random), unit(random)) * scale; };
-    int cleared = 0, hits = 0;
-    for (double thickness : {0.0, 0.05}) {
-        CCDSettings settings;
-        settings.thickness = thickness;
-        for (int trial = 0; trial < 400; ++trial) {
-            Positions a{point(1.0), point(1.0), point(1.0)};
-            Positions b = shifted({point(1.0), point(1.0), point(1.0)}, Vec3(0, 0, 0.5 + unit(random)));
-            const Triangle ids_a{0, 1, 2}, ids_b{3, 4, 5};
-            PairClearance clearance;
-            clearance.start(ids_a, a, ids_b, b, false, thickness, settings.tolerance);
-            const Vec3 velocity_a = point(0.1), velocity_b = point(0.1) - Vec3(0, 0, 0.1);
-            for (int step = 0; step < 8; ++step) {
-                const Positions a1 = shifted(a, velocity_a + point(0.02));
-                const Positions b1 = shifted(b, velocity_b + point(0.02));
-                const bool certified = clearance.holds_at(a1, b1);
-                const bool hit = triangle_pair_ccd({ids_a, a, a1}, {ids_b, b, b1}, false, settings).hit;
-                EXPECT_FALSE(certified && hit) << "trial " << trial << " step " << step;
-                cleared += certified;
-                hits += hit;
-                if (!certified) break;
-                a = a1;
-                b = b1;
-            }
-        }
-    }
-    EXPECT_GT(cleared, 200);
-    EXPECT_GT(hits, 20);
+    // touch (within the thickness, even only along a diagonal).
+    PairClearance clearance;
+    Vec3 velocity_a, velocity_b;
+    const auto start = [&](trials::TrialRandom& random, const CCDSettings& settings, int) {
+        const trials::TrialPair pair{{0, 1, 2}, {3, 4, 5}, {random.point(1.0), random.point(1.0), random.point(1.0)},
+                                      shifted({random.point(1.0), random.point(1.0), random.point(1.0)}, Vec3(0, 0, 0.5 + random.unit()))};
+        clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b, false, settings.thickness, settings.tolerance);
+        velocity_a = random.point(0.1);
+        velocity_b = random.point(0.1) - Vec3(0, 0, 0.1);
+        return pair;
+    };
+    const auto move = [&](trials::TrialRandom& random, const trials::TrialPair& pair) {
+        return trials::TrialPair{pair.ids_a, pair.ids_b, shifted(pair.a, velocity_a + random.point(0.02)),
+                                  shifted(pair.b, velocity_b + random.point(0.02))};
+    };
+    const auto holds = [&](const trials::TrialPair& pair) { return clearance.holds_at(pair.a, pair.b); };
+    const trials::ClearanceTrialCounts counts = trials::run_clearance_trials(20240611, false, start, move, holds);
+    EXPECT_GT(counts.cleared, 15000);
+    EXPECT_GT(counts.hits, 900);
 }
 
 TEST(PairClearance, AVertexOffTheCornerAlongTheDiagonalIsNotCleared) {

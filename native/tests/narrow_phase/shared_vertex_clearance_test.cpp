@@ -6,16 +6,18 @@
 #include "usdksl/narrow_phase/shared_vertex_clearance.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
+#include "narrow_phase/clearance_trials.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
-#include <random>
+#include <cmath>
 
 using namespace usdksl;
 
 namespace {
 
-using Positions = std::array<Vec3, 3>;
+using trials::Positions;
 
 Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
 
@@ -64,38 +66,27 @@ TEST(SharedVertexClearance, FoldingOneTriangleOntoTheOtherEndsIt) {
 TEST(SharedVertexClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
     // Random vertex-sharing pairs (one shared vertex or a shared edge) whose
     // free vertices wander over several steps, some folding into contact.
-    std::mt19937 random(20261123);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const auto point = [&](double scale) -> Vec3 { return Vec3(unit(random), unit(random), unit(random)) * scale; };
-    int cleared = 0, hits = 0;
-    for (double thickness : {0.0, 0.05}) {
-        CCDSettings settings;
-        settings.thickness = thickness;
-        for (int trial = 0; trial < 400; ++trial) {
-            const bool edge = trial % 2 == 0;
-            const Triangle ids_a{0, 1, 2};
-            const Triangle ids_b = edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3};
-            Positions a{Vec3(0, 0, 0), point(1.0), point(1.0)};
-            Positions b{edge ? a[1] : point(1.0), a[0], point(1.0)};
-            SharedVertexClearance clearance;
-            clearance.start(ids_a, a, ids_b, b, thickness, settings.tolerance, kMagnitude);
-            const Vec3 drift = point(0.1);
-            for (int step = 0; step < 8; ++step) {
-                Positions a1 = shifted(a, drift);
-                a1[1] += point(0.03);
-                a1[2] += point(0.03);
-                Positions b1{edge ? a1[1] : b[0] + drift + point(0.03), a1[0], b[2] + drift + point(0.03)};
-                const bool certified = clearance.holds_at(a1, b1);
-                const bool hit = triangle_pair_ccd({ids_a, a, a1}, {ids_b, b, b1}, true, settings).hit;
-                EXPECT_FALSE(certified && hit) << "trial " << trial << " step " << step;
-                cleared += certified;
-                hits += hit;
-                if (!certified) break;
-                a = a1;
-                b = b1;
-            }
-        }
-    }
-    EXPECT_GT(cleared, 1000);
-    EXPECT_GT(hits, 20);
+    SharedVertexClearance clearance;
+    Vec3 drift;
+    bool edge = false;
+    const auto start = [&](trials::TrialRandom& random, const CCDSettings& settings, int trial) {
+        edge = trial % 2 == 0;
+        const Positions a{Vec3(0, 0, 0), random.point(1.0), random.point(1.0)};
+        const trials::TrialPair pair{{0, 1, 2}, edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3}, a,
+                                      {edge ? a[1] : random.point(1.0), a[0], random.point(1.0)}};
+        clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b, settings.thickness, settings.tolerance, kMagnitude);
+        drift = random.point(0.1);
+        return pair;
+    };
+    const auto move = [&](trials::TrialRandom& random, const trials::TrialPair& pair) {
+        Positions a1 = shifted(pair.a, drift);
+        a1[1] += random.point(0.03);
+        a1[2] += random.point(0.03);
+        const Positions b1{edge ? a1[1] : pair.b[0] + drift + random.point(0.03), a1[0], pair.b[2] + drift + random.point(0.03)};
+        return trials::TrialPair{pair.ids_a, pair.ids_b, a1, b1};
+    };
+    const auto holds = [&](const trials::TrialPair& pair) { return clearance.holds_at(pair.a, pair.b); };
+    const trials::ClearanceTrialCounts counts = trials::run_clearance_trials(20261123, true, start, move, holds);
+    EXPECT_GT(counts.cleared, 20000);
+    EXPECT_GT(counts.hits, 250);
 }

@@ -35,6 +35,10 @@ constexpr double PAIR_CLEARANCE_CONTACT_REACH = 2.0;
 /// @brief Rounding allowance relative to the largest absolute coordinate seen.
 constexpr double PAIR_CLEARANCE_ROUNDING = 1e-9;
 
+/// @brief How fast the reach grows with the drift, in multiples of the size
+///        fraction: a drift d can widen the six vertices' box diagonal by 2 d.
+constexpr double PAIR_CLEARANCE_DRIFT_GROWTH = 2.0;
+
 /// @brief Most steps a pair waits, after a clearance certificate failed at
 ///        once, before it tries another.
 constexpr int32_t CLEARANCE_MAX_BACKOFF_STEPS = 16;
@@ -44,6 +48,18 @@ constexpr int32_t CLEARANCE_MAX_BACKOFF_STEPS = 16;
 ///        without those sharing a vertex when both are of one mesh.
 double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
                                  const std::array<Vec3, 3>& b, bool same_mesh);
+
+/// @brief Fraction of the pair's size a certified gap must exceed beyond the
+///        contact reach, for a CCD tolerance (interval fraction).
+double clearance_size_fraction(double tolerance);
+
+/// @brief Distance (scene units) a tested primitive pair must stay beyond for
+///        a clearance certificate to hold: the contact reach, the size margin
+///        of a pair whose box diagonal was `diameter` at the start and has
+///        since drifted by `drift`, and the rounding of coordinates up to
+///        `magnitude` (all scene units).
+double clearance_reach(double contact_distance, double size_fraction, double diameter, double drift,
+                       double magnitude);
 
 /// @brief Diagonal (scene units) of the axis-aligned box of six vertices: at
 ///        least their diameter.
@@ -103,7 +119,7 @@ private:
     bool distance_known_ = false;
     double distance_ = 0.0;               // smallest tested primitive distance at the start
     double diameter_ = 0.0;               // at least that of the six vertices at the start
-    double contact_distance_ = 0.0;       // scene units, times PAIR_CLEARANCE_CONTACT_REACH
+    double contact_distance_ = 0.0;       // scene units
     double size_fraction_ = 0.0;
     double magnitude_ = 0.0;              // largest absolute coordinate seen
     double drift_ = 0.0;
