@@ -53,19 +53,42 @@ double pair_box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
 
 double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
                                  const std::array<Vec3, 3>& b, bool same_mesh) {
+    // Every tested vertex-face and edge-edge distance is the least of some
+    // vertex-to-edge distances and one interior candidate; a vertex-to-edge
+    // distance serves up to three of those pairs, so it is measured once, when
+    // first needed (pairs that share vertices need only some).
+    // to_edge[0][i][j]: A's vertex i to B's edge (j, j+1); [1]: B's vertex i to A's edge.
+    double to_edge[2][3][3];
+    for (auto& side : to_edge)
+        for (auto& row : side) row[0] = row[1] = row[2] = -1.0;
+    const auto vertex_to_edge = [&](int side, int i, int j) {
+        double& squared = to_edge[side][i][j];
+        if (squared < 0.0) {
+            const std::array<Vec3, 3>& vertices = side == 0 ? a : b;
+            const std::array<Vec3, 3>& edges = side == 0 ? b : a;
+            squared = point_segment_distance_squared(vertices[i], edges[j], edges[(j + 1) % 3]);
+        }
+        return squared;
+    };
     double squared = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 3; ++i) {
-        if (!(same_mesh && holds_vertex(ids_b, ids_a[i])))
-            squared = std::min(squared, point_triangle_distance_squared(a[i], b[0], b[1], b[2]));
-        if (!(same_mesh && holds_vertex(ids_a, ids_b[i])))
-            squared = std::min(squared, point_triangle_distance_squared(b[i], a[0], a[1], a[2]));
+        if (!(same_mesh && holds_vertex(ids_b, ids_a[i]))) {
+            squared = std::min({squared, vertex_to_edge(0, i, 0), vertex_to_edge(0, i, 1), vertex_to_edge(0, i, 2),
+                                point_triangle_interior_distance_squared(a[i], b[0], b[1], b[2])});
+        }
+        if (!(same_mesh && holds_vertex(ids_a, ids_b[i]))) {
+            squared = std::min({squared, vertex_to_edge(1, i, 0), vertex_to_edge(1, i, 1), vertex_to_edge(1, i, 2),
+                                point_triangle_interior_distance_squared(b[i], a[0], a[1], a[2])});
+        }
     }
     for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3;
         for (int j = 0; j < 3; ++j) {
             const int j1 = (j + 1) % 3;
             if (same_mesh && edges_share_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;
-            squared = std::min(squared, segment_segment_distance_squared(a[i], a[i1], b[j], b[j1]));
+            squared = std::min({squared, vertex_to_edge(0, i, j), vertex_to_edge(0, i1, j), vertex_to_edge(1, j, i),
+                                vertex_to_edge(1, j1, i),
+                                segment_segment_interior_distance_squared(a[i], a[i1], b[j], b[j1])});
         }
     }
     return std::sqrt(squared);

@@ -1,0 +1,80 @@
+/// @file tested_primitive_distance_test.cpp
+/// @brief tested_primitive_distance, which measures each vertex-to-edge
+///        distance once for all the pairs it serves, equals bit for bit the
+///        least distance of every tested vertex-face and edge-edge pair
+///        measured on its own.
+
+#include "usdksl/geometry/primitive_distance.hpp"
+#include "usdksl/narrow_phase/pair_clearance.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace usdksl;
+
+namespace {
+
+using Positions = std::array<Vec3, 3>;
+
+bool holds(const Triangle& ids, int32_t v) { return ids[0] == v || ids[1] == v || ids[2] == v; }
+
+/// Each tested pair on its own, as the narrow phase sees them.
+double each_pair_on_its_own(const Triangle& ids_a, const Positions& a, const Triangle& ids_b, const Positions& b,
+                            bool same_mesh) {
+    double squared = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) {
+        if (!(same_mesh && holds(ids_b, ids_a[i])))
+            squared = std::min(squared, point_triangle_distance_squared(a[i], b[0], b[1], b[2]));
+        if (!(same_mesh && holds(ids_a, ids_b[i])))
+            squared = std::min(squared, point_triangle_distance_squared(b[i], a[0], a[1], a[2]));
+    }
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            const int32_t e0 = ids_a[i], e1 = ids_a[(i + 1) % 3], f0 = ids_b[j], f1 = ids_b[(j + 1) % 3];
+            if (same_mesh && (e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1)) continue;
+            squared = std::min(squared, segment_segment_distance_squared(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3]));
+        }
+    }
+    return std::sqrt(squared);
+}
+
+} // namespace
+
+TEST(TestedPrimitiveDistance, EqualsEveryTestedPairMeasuredOnItsOwn) {
+    std::mt19937 random(20261123);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto point = [&]() -> Vec3 {
+        const double x = unit(random), y = unit(random), z = unit(random);
+        return Vec3(x, y, z);
+    };
+    // No shared vertex, one shared vertex (at each corner), a shared edge;
+    // and degenerate shapes: a repeated point, collinear corners.
+    const std::array<Triangle, 5> ids_b_cases = {Triangle{3, 4, 5}, Triangle{4, 0, 5}, Triangle{3, 5, 2},
+                                                 Triangle{1, 0, 5}, Triangle{2, 5, 1}};
+    int cases = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const Triangle ids_a{0, 1, 2};
+        const Triangle& ids_b = ids_b_cases[trial % ids_b_cases.size()];
+        Positions a{point(), point(), point()};
+        if (trial % 7 == 0) a[2] = a[1];                              // zero area: a repeated corner
+        if (trial % 11 == 0) a[2] = 0.5 * (a[0] + a[1]);              // zero area: collinear corners
+        Positions b{point(), point(), point()};
+        for (int j = 0; j < 3; ++j) {
+            for (int i = 0; i < 3; ++i) {
+                if (ids_b[j] == ids_a[i]) b[j] = a[i];  // a shared vertex sits where it is in A
+            }
+        }
+        for (bool same_mesh : {true, false}) {
+            EXPECT_EQ(tested_primitive_distance(ids_a, a, ids_b, b, same_mesh),
+                      each_pair_on_its_own(ids_a, a, ids_b, b, same_mesh))
+                << "trial " << trial << " same mesh " << same_mesh;
+            ++cases;
+        }
+    }
+    EXPECT_EQ(cases, 4000);
+}
