@@ -111,7 +111,7 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
     if (replay) {
         CCDSettings finer = settings;
         finer.tolerance = finer_tolerance_;
-        const TrianglePairContact confirming = finer_triangle_pair_ccd(a, b, mesh_a == mesh_b, finer, *replay);
+        const TrianglePairContact confirming = finer_triangle_pair_ccd(a, b, mesh_a == mesh_b, finer, *replay, &finer_memo_);
         contact.carried = {true,           step.begin,     step.end,           confirming.hit,
                            confirming.toi, confirming.feature, confirming.undecided, confirming.queries};
     }

@@ -123,6 +123,8 @@ private:
     /// Repeated vertex-face queries of this tester's narrow phase (a tester
     /// is used by one thread at a time).
     VertexFaceMemo vertex_face_memo_;
+    /// Finer vertex-face answers of the carried confirmations.
+    VertexFaceMemo finer_memo_;
     /// Set by carry_confirmations.
     std::unique_ptr<FinerReplay> finer_;
     double finer_tolerance_ = 0.0;
