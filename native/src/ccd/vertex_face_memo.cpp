@@ -67,44 +67,86 @@ struct VertexFaceMemo::Storage {
 VertexFaceMemo::VertexFaceMemo() = default;
 VertexFaceMemo::~VertexFaceMemo() = default;
 
-CCDResult VertexFaceMemo::vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
-                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
-                                          const CCDSettings& settings, double t_max, bool& reused,
-                                          FinerSearchFork* fork) {
+struct VertexFaceMemo::Slot {
+    Key key;
+    uint64_t hash;
+    SetHeader* header;
+    Entry* entry;
+    int way;
+    bool found;
+};
+
+VertexFaceMemo::Slot VertexFaceMemo::slot_for(const Vec3* const points[8], const CCDSettings& settings,
+                                              double t_max) {
     if (!storage_) storage_ = std::make_unique<Storage>();
     Storage& storage = *storage_;
-    Key key;
+    Slot slot;
     int n = 0;
-    for (const Vec3* point : {&p_t0, &a_t0, &b_t0, &c_t0, &p_t1, &a_t1, &b_t1, &c_t1})
-        for (int k = 0; k < 3; ++k) key.word[n++] = bits_of((*point)[k]);
-    key.word[n++] = bits_of(t_max);
-    key.word[n++] = bits_of(settings.tolerance);
-    key.word[n++] = bits_of(settings.thickness);
-    key.word[n++] = static_cast<uint64_t>(settings.max_iterations);
+    for (int i = 0; i < 8; ++i)
+        for (int k = 0; k < 3; ++k) slot.key.word[n++] = bits_of((*points[i])[k]);
+    slot.key.word[n++] = bits_of(t_max);
+    slot.key.word[n++] = bits_of(settings.tolerance);
+    slot.key.word[n++] = bits_of(settings.thickness);
+    slot.key.word[n++] = static_cast<uint64_t>(settings.max_iterations);
 
-    const uint64_t hash = hash_of(key);
-    const size_t set = static_cast<size_t>(hash) & (SETS - 1);
-    SetHeader& header = storage.headers[set];
+    slot.hash = hash_of(slot.key);
+    const size_t set = static_cast<size_t>(slot.hash) & (SETS - 1);
+    slot.header = &storage.headers[set];
     Entry* ways = &storage.entries[set * WAYS];
     const uint64_t now = ++storage.clock;
     int oldest = 0;
     for (int w = 0; w < WAYS; ++w) {
-        if (header.stamp[w] != 0 && header.hash[w] == hash && ways[w].key == key) {
-            header.stamp[w] = now;
-            reused = true;
-            return ways[w].result;
+        if (slot.header->stamp[w] != 0 && slot.header->hash[w] == slot.hash && ways[w].key == slot.key) {
+            slot.header->stamp[w] = now;
+            slot.way = w;
+            slot.entry = &ways[w];
+            slot.found = true;
+            return slot;
         }
-        if (header.stamp[w] < header.stamp[oldest]) oldest = w;
+        if (slot.header->stamp[w] < slot.header->stamp[oldest]) oldest = w;
     }
-    reused = false;
+    slot.way = oldest;
+    slot.entry = &ways[oldest];
+    slot.found = false;
+    return slot;
+}
+
+void VertexFaceMemo::fill(Slot& slot, const CCDResult& result) {
+    slot.header->hash[slot.way] = slot.hash;
+    slot.header->stamp[slot.way] = storage_->clock;
+    slot.entry->key = slot.key;
+    slot.entry->result = result;
+}
+
+CCDResult VertexFaceMemo::vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                          const CCDSettings& settings, double t_max, bool& reused,
+                                          FinerSearchFork* fork) {
+    const Vec3* const points[8] = {&p_t0, &a_t0, &b_t0, &c_t0, &p_t1, &a_t1, &b_t1, &c_t1};
+    Slot slot = slot_for(points, settings, t_max);
+    reused = slot.found;
+    if (slot.found) return slot.entry->result;
     const CCDResult result =
         fork ? usdksl::vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, t_max, *fork)
              : usdksl::vertex_face_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, t_max);
-    header.hash[oldest] = hash;
-    header.stamp[oldest] = now;
-    ways[oldest].key = key;
-    ways[oldest].result = result;
+    fill(slot, result);
     return result;
+}
+
+const CCDResult* VertexFaceMemo::find(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                      const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                      const CCDSettings& settings, double t_max) {
+    const Vec3* const points[8] = {&p_t0, &a_t0, &b_t0, &c_t0, &p_t1, &a_t1, &b_t1, &c_t1};
+    const Slot slot = slot_for(points, settings, t_max);
+    return slot.found ? &slot.entry->result : nullptr;
+}
+
+void VertexFaceMemo::keep(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0, const Vec3& p_t1,
+                          const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1, const CCDSettings& settings,
+                          double t_max, const CCDResult& result) {
+    const Vec3* const points[8] = {&p_t0, &a_t0, &b_t0, &c_t0, &p_t1, &a_t1, &b_t1, &c_t1};
+    Slot slot = slot_for(points, settings, t_max);
+    fill(slot, result);
 }
 
 } // namespace usdksl

@@ -59,11 +59,13 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
     offsets.reserve(static_cast<size_t>(n) + 1);
     offsets.push_back(0);
     vertex_magnitude.assign(static_cast<size_t>(n), 0.0);
+    std::vector<double>& vertex_deviation = storage->vertex_deviation;
     std::vector<int64_t> kept;
     kept.reserve(static_cast<size_t>(sample_count));
     for (int32_t v = 0; v < n; ++v) {
         kept.clear();
         kept.push_back(0);
+        double deviation = 0.0;  // of vertex v
         double run_deviation = 0.0;  // of the samples dropped since the last kept one
         double run_magnitude = sample_magnitude(mesh, v, 0);  // of the samples since the last kept one
         for (int64_t k = 1; k < sample_count; ++k) {
@@ -85,13 +87,18 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
                     run_deviation = worst;
                     continue;
                 }
-                merge_deviation_ = std::max(merge_deviation_, run_deviation);
+                deviation = std::max(deviation, run_deviation);
                 run_deviation = 0.0;
             }
             kept.push_back(k);
             run_magnitude = sample_magnitude(mesh, v, k);
         }
-        merge_deviation_ = std::max(merge_deviation_, run_deviation);
+        deviation = std::max(deviation, run_deviation);
+        if (deviation > 0.0) {
+            if (vertex_deviation.empty()) vertex_deviation.assign(static_cast<size_t>(n), 0.0);
+            vertex_deviation[static_cast<size_t>(v)] = deviation;
+        }
+        merge_deviation_ = std::max(merge_deviation_, deviation);
         // A vertex that never moves keeps a single breakpoint.
         if (merge_collinear && kept.size() == 2) {
             bool still = true;
@@ -118,6 +125,7 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
     key_times_ = key_times.data();
     key_points_ = key_points.data();
     vertex_magnitude_ = vertex_magnitude.data();
+    vertex_deviation_ = vertex_deviation.empty() ? nullptr : vertex_deviation.data();
     storage_ = std::move(storage);
 }
 

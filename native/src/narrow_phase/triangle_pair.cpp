@@ -184,13 +184,30 @@ TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTrian
 }
 
 TrianglePairContact finer_triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b, bool same_mesh,
-                                            const CCDSettings& finer_settings, const FinerReplay& replay) {
+                                            const CCDSettings& finer_settings, const FinerReplay& replay,
+                                            VertexFaceMemo* memo) {
     return search_triangle_pair(a, b, same_mesh, finer_settings,
                                 [&](int index, const PrimitivePoints& points, double t_max, bool& reused) {
                                     const FinerReplay::Record* kept = replay.record_for(index, t_max, finer_settings);
                                     if (kept && !kept->fork.diverged) return kept->result;
-                                    if (kept) return resumed_primitive_ccd(points, finer_settings, t_max, kept->fork);
-                                    return primitive_ccd(points, finer_settings, t_max, nullptr, reused, nullptr);
+                                    const auto& s = points.s;
+                                    const auto& e = points.e;
+                                    const bool memoized = memo && !points.edge_edge;
+                                    if (memoized) {
+                                        const CCDResult* known = memo->find(s[0], s[1], s[2], s[3], e[0], e[1], e[2],
+                                                                            e[3], finer_settings, t_max);
+                                        if (known) {
+                                            reused = true;
+                                            return *known;
+                                        }
+                                    }
+                                    const CCDResult result =
+                                        kept ? resumed_primitive_ccd(points, finer_settings, t_max, kept->fork)
+                                             : primitive_ccd(points, finer_settings, t_max, nullptr, reused, nullptr);
+                                    if (memoized && result.iterations >= FINER_MEMO_MIN_ITERATIONS)
+                                        memo->keep(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], finer_settings,
+                                                   t_max, result);
+                                    return result;
                                 });
 }
 

@@ -26,9 +26,9 @@ void TrianglePairTester::canonical_order(int32_t& mesh_a, int32_t& tri_a, int32_
     }
 }
 
-CCDSettings TrianglePairTester::settings_for(int32_t mesh_a, int32_t mesh_b) const {
+CCDSettings TrianglePairTester::settings_for(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const {
     CCDSettings settings = settings_;
-    settings.thickness = scene_.contact_distance(mesh_a, mesh_b, settings_.thickness);
+    settings.thickness = scene_.contact_distance(mesh_a, tri_a, mesh_b, tri_b, settings_.thickness);
     return settings;
 }
 
@@ -89,7 +89,7 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
     ++counters_.narrow_phase_tests;
     const MovingTriangle a{scene_.meshes[mesh_a].triangles[tri_a], a0, a1};
     const MovingTriangle b{scene_.meshes[mesh_b].triangles[tri_b], b0, b1};
-    const CCDSettings settings = settings_for(mesh_a, mesh_b);
+    const CCDSettings settings = settings_for(mesh_a, tri_a, mesh_b, tri_b);
     // The raw-sample confirmation tests this very step with these positions
     // at the user's thickness: only then is its answer worked out here.
     FinerReplay* replay = finer_ && raw_positions && settings.thickness == settings_.thickness
@@ -111,7 +111,7 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
     if (replay) {
         CCDSettings finer = settings;
         finer.tolerance = finer_tolerance_;
-        const TrianglePairContact confirming = finer_triangle_pair_ccd(a, b, mesh_a == mesh_b, finer, *replay);
+        const TrianglePairContact confirming = finer_triangle_pair_ccd(a, b, mesh_a == mesh_b, finer, *replay, &finer_memo_);
         contact.carried = {true,           step.begin,     step.end,           confirming.hit,
                            confirming.toi, confirming.feature, confirming.undecided, confirming.queries};
     }
@@ -175,7 +175,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         }
         return result;
     };
-    const double contact_distance = settings_for(mesh_a, mesh_b).thickness;
+    const double contact_distance = settings_for(mesh_a, tri_a, mesh_b, tri_b).thickness;
     double t = from;
     while (true) {
         // The step containing t, as step_containing() finds it.
@@ -254,7 +254,7 @@ bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh
     const std::array<Vec3, 3> at_a = scene_.triangle_at(mesh_a, tri_a, t);
     const std::array<Vec3, 3> at_b = scene_.triangle_at(mesh_b, tri_b, t);
     bool hit = triangle_pair_intersect_static(ids_a, at_a, ids_b, at_b, mesh_a == mesh_b,
-                                              scene_.contact_distance(mesh_a, mesh_b, settings_.thickness));
+                                              scene_.contact_distance(mesh_a, tri_a, mesh_b, tri_b, settings_.thickness));
     if (!hit) {
         // The pair held still at t, as the continuous test sees it on a step where nothing moves
         // (between raw samples of still vertices, which the other methods' steps keep): a gap that test
@@ -262,7 +262,7 @@ bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh
         // checked range gets the same answer from every method.
         const TrianglePairContact still = triangle_pair_ccd(MovingTriangle{ids_a, at_a, at_a},
                                                             MovingTriangle{ids_b, at_b, at_b}, mesh_a == mesh_b,
-                                                            settings_for(mesh_a, mesh_b), &vertex_face_memo_);
+                                                            settings_for(mesh_a, tri_a, mesh_b, tri_b), &vertex_face_memo_);
         counters_.primitive_queries += still.queries;
         counters_.reused_queries += still.reused_queries;
         if (still.undecided) ++counters_.undecided_queries;

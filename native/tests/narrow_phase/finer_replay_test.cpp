@@ -68,3 +68,56 @@ TEST(FinerReplay, AnswersAsAFreshFinerSearchBitForBit) {
     EXPECT_GT(hits, 200);
     EXPECT_GT(parted, 50) << "of " << hits << " hits";
 }
+
+TEST(FinerReplay, FinerMemoAnswersAsAFreshFinerSearchBitForBit) {
+    // Two triangles A = (x, s, y) and A2 = (z, s, w) share corner s, which
+    // each asks against B second, up to the time its first corner's query
+    // left: the memo of finer answers is asked for s both up to the t_max
+    // it holds an answer for (then it must answer) and up to another
+    // (then it must not).
+    std::mt19937_64 random(2027);
+    CCDSettings coarse;
+    coarse.tolerance = 1e-6;
+    CCDSettings finer = coarse;
+    finer.tolerance = 1e-9;
+    FinerReplay replay(finer.tolerance);
+    VertexFaceMemo coarse_memo, finer_memo;
+    int hits = 0, from_memo = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const Vec3 drift = random_point(random, 0.05);
+        Vec3 corner0[5];
+        for (Vec3& corner : corner0) corner = random_point(random, 0.7);
+        const Vec3 start = random_point(random, 0.8), travel = random_point(random, 3.0);
+        Positions b0, b1;
+        for (int i = 0; i < 3; ++i) {
+            b0[i] = start + random_point(random, 0.6);
+            b1[i] = b0[i] + travel + random_point(random, 0.1);
+        }
+        coarse.thickness = finer.thickness = trial % 3 == 0 ? 0.01 : 0.0;
+        const MovingTriangle b{Triangle{5, 6, 7}, b0, b1};
+        // Corner 1 is s.
+        const int corners[2][3] = {{0, 1, 2}, {3, 1, 4}};
+        for (const auto& ids : corners) {
+            MovingTriangle a{Triangle{ids[0], ids[1], ids[2]}, {}, {}};
+            for (int i = 0; i < 3; ++i) {
+                a.t0[i] = corner0[ids[i]];
+                a.t1[i] = corner0[ids[i]] + drift;
+            }
+            triangle_pair_ccd(a, b, false, coarse, &coarse_memo, &replay);
+            const TrianglePairContact fresh = triangle_pair_ccd(a, b, false, finer);
+            const TrianglePairContact replayed = finer_triangle_pair_ccd(a, b, false, finer, replay, &finer_memo);
+            ASSERT_EQ(replayed.hit, fresh.hit) << "trial " << trial;
+            ASSERT_TRUE(bit_equal(replayed.toi, fresh.toi))
+                << "trial " << trial << ": " << replayed.toi << " vs " << fresh.toi;
+            ASSERT_EQ(replayed.feature, fresh.feature) << "trial " << trial;
+            ASSERT_EQ(replayed.undecided, fresh.undecided) << "trial " << trial;
+            ASSERT_EQ(replayed.queries, fresh.queries) << "trial " << trial;
+            hits += fresh.hit ? 1 : 0;
+            from_memo += replayed.reused_queries;
+        }
+    }
+    EXPECT_GT(hits, 300);
+    // The memo must have answered: the coarser search took the repeats from
+    // its own memo, without a fork, so the finer search asks its memo.
+    EXPECT_GT(from_memo, 30) << "of " << hits << " hits";
+}

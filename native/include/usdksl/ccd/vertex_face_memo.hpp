@@ -51,8 +51,28 @@ public:
                               const CCDSettings& settings, double t_max, bool& reused,
                               FinerSearchFork* fork = nullptr);
 
+    /// @brief The kept answer of vertex_face_ccd(p_t0, ..., c_t1, settings,
+    ///        t_max) when these exact inputs were kept recently, else nullptr.
+    ///        The pointer is valid until the next call on this memo.
+    const CCDResult* find(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                          const CCDSettings& settings, double t_max);
+
+    /// @brief Keeps `result` as the answer of vertex_face_ccd(p_t0, ...,
+    ///        c_t1, settings, t_max); the caller vouches that it is exactly
+    ///        that answer (however it was worked out).
+    void keep(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0, const Vec3& p_t1,
+              const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1, const CCDSettings& settings, double t_max,
+              const CCDResult& result);
+
 private:
     struct Storage;
+    struct Slot;
+    /// The slot of these inputs: the way that holds them (found) or the
+    /// least recently used way of their set (to be filled).
+    Slot slot_for(const Vec3* const points[8], const CCDSettings& settings, double t_max);
+    /// Stores `result` in `slot` as its most recently used way.
+    void fill(Slot& slot, const CCDResult& result);
     std::unique_ptr<Storage> storage_;
 };
 

@@ -91,6 +91,10 @@ public:
     ///        sample and the merged flightplan; 0 when nothing merged.
     double merge_deviation() const { return merge_deviation_; }
 
+    /// @brief merge_deviation() of vertex v alone: 0 when none of v's
+    ///        dropped samples lies off its merged flightplan.
+    double vertex_deviation(int32_t v) const { return vertex_deviation_ ? vertex_deviation_[v] : 0.0; }
+
     /// @brief True when some sample was dropped, so steps between breakpoints
     ///        may span several sample intervals.
     bool merged() const { return merged_; }
@@ -106,6 +110,8 @@ private:
         std::vector<double> key_times;
         std::vector<double> key_points;
         std::vector<double> vertex_magnitude;
+        /// Per vertex, kept only when some vertex deviates.
+        std::vector<double> vertex_deviation;
     };
     std::shared_ptr<const Storage> storage_;
     int32_t vertex_count_ = -1;
@@ -113,6 +119,7 @@ private:
     const double* key_times_ = nullptr;
     const double* key_points_ = nullptr;
     const double* vertex_magnitude_ = nullptr;
+    const double* vertex_deviation_ = nullptr;
     /// Last segment found per vertex: queries mostly move forward in time, so
     /// the answer is usually this segment or the next (a cache, not state;
     /// each copy has its own, so copies may be used from different threads).

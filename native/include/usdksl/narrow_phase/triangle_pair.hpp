@@ -84,15 +84,28 @@ TrianglePairContact triangle_pair_ccd(const MovingTriangle& a, const MovingTrian
                                       bool same_mesh, const CCDSettings& settings,
                                       VertexFaceMemo* memo = nullptr, FinerReplay* replay = nullptr);
 
+/// @brief Root-search boxes (CCDResult::iterations) a finer vertex-face
+///        answer must have cost before finer_triangle_pair_ccd keeps it in
+///        its memo: cheaper answers (most misses end on their first box) are
+///        recomputed rather than evict costly ones (a speed setting, no
+///        effect on answers).
+constexpr int64_t FINER_MEMO_MIN_ITERATIONS = 4;
+
 /// @brief triangle_pair_ccd(a, b, same_mesh, finer_settings), bit for bit,
 ///        for a `replay` that the last triangle_pair_ccd of the same a, b and
 ///        same_mesh filled at a coarser tolerance (same thickness and
 ///        iteration cap): a primitive query asked there up to the same t_max
 ///        takes its answer from the coarser search when the two searches
 ///        never parted, else goes on from where they parted; the rest are
-///        searched afresh.
+///        searched afresh. With a `memo` (for finer answers only), a
+///        vertex-face query that is not answered by the replay is looked up
+///        there first, and a costly answer is kept: the coarser search took
+///        a vertex asked again against the same face (once per triangle
+///        around the vertex) from its own memo, without a fork, so without
+///        this memo the finer search would run afresh for every repeat.
 TrianglePairContact finer_triangle_pair_ccd(const MovingTriangle& a, const MovingTriangle& b, bool same_mesh,
-                                            const CCDSettings& finer_settings, const FinerReplay& replay);
+                                            const CCDSettings& finer_settings, const FinerReplay& replay,
+                                            VertexFaceMemo* memo = nullptr);
 
 /// @brief True when triangles A and B (positions at one instant) touch or
 ///        intersect (within settings.thickness), considering only primitives

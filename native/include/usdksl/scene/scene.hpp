@@ -5,6 +5,7 @@
 #include "usdksl/mesh_animation.hpp"
 #include "usdksl/flightplan/flightplans.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -51,6 +52,26 @@ struct Scene {
     ///        is local to the two meshes: a curved mesh elsewhere adds nothing.
     double contact_distance(int32_t mesh_a, int32_t mesh_b, double thickness) const {
         return thickness + MERGE_DEVIATION_TO_DISTANCE * (merge_deviation_[mesh_a] + merge_deviation_[mesh_b]);
+    }
+
+    /// @brief contact_distance(mesh_a, mesh_b, thickness) for one triangle
+    ///        pair, with the slack of its own six vertices: a triangle's points
+    ///        leave their sampled trajectories only as far as its vertices do,
+    ///        so a pair whose vertices merged only exactly collinear samples
+    ///        (or none) is tested at the thickness alone, whatever a vertex
+    ///        elsewhere in the mesh merged. Never more than the meshes' value.
+    double contact_distance(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double thickness) const {
+        return thickness + MERGE_DEVIATION_TO_DISTANCE * (triangle_deviation(mesh_a, tri_a) + triangle_deviation(mesh_b, tri_b));
+    }
+
+    /// @brief Largest merge deviation (infinity norm, scene units) of the
+    ///        vertices of triangle `tri` of mesh `mesh`.
+    double triangle_deviation(int32_t mesh, int32_t tri) const {
+        if (merge_deviation_[mesh] == 0.0) return 0.0;
+        const Flightplans& p = plans[mesh];
+        double deviation = 0.0;
+        for (int32_t v : meshes[mesh].triangles[tri]) deviation = std::max(deviation, p.vertex_deviation(v));
+        return deviation;
     }
 
     /// @brief Positions of triangle `tri` of mesh `mesh` at time code t.

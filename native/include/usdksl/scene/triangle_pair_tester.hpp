@@ -39,8 +39,8 @@ struct StepRun {
 /// @brief Tests triangle pairs and records each pair's first contact. Every
 ///        method goes through it, so equal inputs give equal contact times.
 ///        The thickness of `settings` is the user's; each pair is tested at
-///        the scene's contact distance for its two meshes (thickness plus the
-///        local slack of merged flightplans).
+///        the scene's contact distance for its two triangles (thickness plus
+///        the slack of their own vertices' merged flightplans).
 class TrianglePairTester {
 public:
     TrianglePairTester(const Scene& scene, const CCDSettings& settings, Counters& counters);
@@ -103,7 +103,8 @@ public:
 
 private:
     static void canonical_order(int32_t& mesh_a, int32_t& tri_a, int32_t& mesh_b, int32_t& tri_b);
-    CCDSettings settings_for(int32_t mesh_a, int32_t mesh_b) const;
+    /// The user's settings at the pair's contact distance (its own slack).
+    CCDSettings settings_for(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
     /// Narrow phase of one canonically ordered pair over `step`, given the
     /// positions at its ends; records and returns true on contact.
     /// `raw_positions`: every position is its vertex's raw sample, as the
@@ -123,6 +124,8 @@ private:
     /// Repeated vertex-face queries of this tester's narrow phase (a tester
     /// is used by one thread at a time).
     VertexFaceMemo vertex_face_memo_;
+    /// Finer vertex-face answers of the carried confirmations.
+    VertexFaceMemo finer_memo_;
     /// Set by carry_confirmations.
     std::unique_ptr<FinerReplay> finer_;
     double finer_tolerance_ = 0.0;
