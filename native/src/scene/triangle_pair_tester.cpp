@@ -176,6 +176,10 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         return result;
     };
     const double contact_distance = settings_for(mesh_a, tri_a, mesh_b, tri_b).thickness;
+    std::array<Vec3, 3> a0, a1, b0, b1;
+    // A step that begins where the last one ended starts from its end positions:
+    // the same segments at the same time code, so the same numbers.
+    double positions_end = std::numeric_limits<double>::quiet_NaN();
     double t = from;
     while (true) {
         // The step containing t, as step_containing() finds it.
@@ -195,7 +199,11 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         if (!std::isfinite(end)) return done({infinity, false});
         if (!std::isfinite(begin)) begin = std::min(t, end);
         // Every vertex's segment holds `begin` too (no breakpoint lies in (begin, t]).
-        std::array<Vec3, 3> a0, a1, b0, b1;
+        const bool starts_at_last_end = begin == positions_end;
+        if (starts_at_last_end) {
+            a0 = a1;
+            b0 = b1;
+        }
         // Positions at breakpoints of their own vertex are raw samples.
         bool raw_positions = true;
         for (int i = 0; i < 6; ++i) {
@@ -204,9 +212,10 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
             raw_positions = raw_positions && p.key_time(segment[i]) == begin && p.key_time(at_end) == end;
             Vec3& start = i < 3 ? a0[i] : b0[i - 3];
             Vec3& finish = i < 3 ? a1[i] : b1[i - 3];
-            start = p.position_in_segment(vertex[i], segment[i], begin);
+            if (!starts_at_last_end) start = p.position_in_segment(vertex[i], segment[i], begin);
             finish = p.position_in_segment(vertex[i], at_end, end);
         }
+        positions_end = end;
         bool cleared = false;
         const auto start_certificate = [&]() {
             clearance.start(ids_a, a0, ids_b, b0, mesh_a == mesh_b, contact_distance, settings_.tolerance);
