@@ -22,16 +22,47 @@ Vec3 random_point(std::mt19937_64& random, double spread) {
     return Vec3(coordinate(random), coordinate(random), coordinate(random));
 }
 
+/// Triangle B's corners at a step's ends: near a random start (within start_spread), all moved by
+/// one random travel plus a little each.
+void sweeping_triangle(std::mt19937_64& random, double start_spread, Positions& b0, Positions& b1) {
+    const Vec3 start = random_point(random, start_spread), travel = random_point(random, 3.0);
+    for (int i = 0; i < 3; ++i) {
+        b0[i] = start + random_point(random, 0.6);
+        b1[i] = b0[i] + travel + random_point(random, 0.1);
+    }
+}
+
 bool bit_equal(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; }
+
+/// The search settings both tests compare: the check's tolerance and the confirmation's finer one.
+struct CoarseAndFiner {
+    CCDSettings coarse, finer;
+    CoarseAndFiner() {
+        coarse.tolerance = 1e-6;
+        finer = coarse;
+        finer.tolerance = 1e-9;
+    }
+};
+
+/// Success when the replayed finer answer is the fresh finer search's, bit for bit.
+::testing::AssertionResult same_answer(const TrianglePairContact& replayed, const TrianglePairContact& fresh) {
+    if (replayed.hit != fresh.hit) return ::testing::AssertionFailure() << "hit " << replayed.hit << " vs " << fresh.hit;
+    if (!bit_equal(replayed.toi, fresh.toi))
+        return ::testing::AssertionFailure() << "toi " << replayed.toi << " vs " << fresh.toi;
+    if (replayed.feature != fresh.feature) return ::testing::AssertionFailure() << "feature differs";
+    if (replayed.undecided != fresh.undecided) return ::testing::AssertionFailure() << "undecided differs";
+    if (replayed.queries != fresh.queries)
+        return ::testing::AssertionFailure() << "queries " << replayed.queries << " vs " << fresh.queries;
+    return ::testing::AssertionSuccess();
+}
 
 } // namespace
 
 TEST(FinerReplay, AnswersAsAFreshFinerSearchBitForBit) {
     std::mt19937_64 random(1123);
-    CCDSettings coarse;
-    coarse.tolerance = 1e-6;
-    CCDSettings finer = coarse;
-    finer.tolerance = 1e-9;
+    CoarseAndFiner settings;
+    CCDSettings& coarse = settings.coarse;
+    CCDSettings& finer = settings.finer;
     FinerReplay replay(finer.tolerance);
     VertexFaceMemo memo;
     int hits = 0, parted = 0;
@@ -40,12 +71,8 @@ TEST(FinerReplay, AnswersAsAFreshFinerSearchBitForBit) {
         const Positions a0{random_point(random, 1.0), random_point(random, 1.0), random_point(random, 1.0)};
         const Vec3 drift = random_point(random, 0.05);
         const Positions a1{a0[0] + drift, a0[1] + drift, a0[2] + drift};
-        const Vec3 start = random_point(random, 1.5), travel = random_point(random, 3.0);
         Positions b0, b1;
-        for (int i = 0; i < 3; ++i) {
-            b0[i] = start + random_point(random, 0.6);
-            b1[i] = b0[i] + travel + random_point(random, 0.1);
-        }
+        sweeping_triangle(random, 1.5, b0, b1);
         coarse.thickness = finer.thickness = trial % 3 == 0 ? 0.01 : 0.0;
         // Self pairs share a vertex id now and then (those primitive pairs are skipped).
         const bool same_mesh = trial % 4 == 0;
@@ -56,11 +83,7 @@ TEST(FinerReplay, AnswersAsAFreshFinerSearchBitForBit) {
         EXPECT_EQ(first.hit, triangle_pair_ccd(a, b, same_mesh, coarse).hit);
         const TrianglePairContact fresh = triangle_pair_ccd(a, b, same_mesh, finer);
         const TrianglePairContact replayed = finer_triangle_pair_ccd(a, b, same_mesh, finer, replay);
-        ASSERT_EQ(replayed.hit, fresh.hit) << "trial " << trial;
-        ASSERT_TRUE(bit_equal(replayed.toi, fresh.toi)) << "trial " << trial << ": " << replayed.toi << " vs " << fresh.toi;
-        ASSERT_EQ(replayed.feature, fresh.feature) << "trial " << trial;
-        ASSERT_EQ(replayed.undecided, fresh.undecided) << "trial " << trial;
-        ASSERT_EQ(replayed.queries, fresh.queries) << "trial " << trial;
+        ASSERT_TRUE(same_answer(replayed, fresh)) << "trial " << trial;
         hits += fresh.hit ? 1 : 0;
         parted += fresh.hit && !bit_equal(first.toi, fresh.toi) ? 1 : 0;
     }
@@ -76,10 +99,9 @@ TEST(FinerReplay, FinerMemoAnswersAsAFreshFinerSearchBitForBit) {
     // it holds an answer for (then it must answer) and up to another
     // (then it must not).
     std::mt19937_64 random(2027);
-    CCDSettings coarse;
-    coarse.tolerance = 1e-6;
-    CCDSettings finer = coarse;
-    finer.tolerance = 1e-9;
+    CoarseAndFiner settings;
+    CCDSettings& coarse = settings.coarse;
+    CCDSettings& finer = settings.finer;
     FinerReplay replay(finer.tolerance);
     VertexFaceMemo coarse_memo, finer_memo;
     int hits = 0, from_memo = 0;
@@ -87,12 +109,8 @@ TEST(FinerReplay, FinerMemoAnswersAsAFreshFinerSearchBitForBit) {
         const Vec3 drift = random_point(random, 0.05);
         Vec3 corner0[5];
         for (Vec3& corner : corner0) corner = random_point(random, 0.7);
-        const Vec3 start = random_point(random, 0.8), travel = random_point(random, 3.0);
         Positions b0, b1;
-        for (int i = 0; i < 3; ++i) {
-            b0[i] = start + random_point(random, 0.6);
-            b1[i] = b0[i] + travel + random_point(random, 0.1);
-        }
+        sweeping_triangle(random, 0.8, b0, b1);
         coarse.thickness = finer.thickness = trial % 3 == 0 ? 0.01 : 0.0;
         const MovingTriangle b{Triangle{5, 6, 7}, b0, b1};
         // Corner 1 is s.
@@ -106,12 +124,7 @@ TEST(FinerReplay, FinerMemoAnswersAsAFreshFinerSearchBitForBit) {
             triangle_pair_ccd(a, b, false, coarse, &coarse_memo, &replay);
             const TrianglePairContact fresh = triangle_pair_ccd(a, b, false, finer);
             const TrianglePairContact replayed = finer_triangle_pair_ccd(a, b, false, finer, replay, &finer_memo);
-            ASSERT_EQ(replayed.hit, fresh.hit) << "trial " << trial;
-            ASSERT_TRUE(bit_equal(replayed.toi, fresh.toi))
-                << "trial " << trial << ": " << replayed.toi << " vs " << fresh.toi;
-            ASSERT_EQ(replayed.feature, fresh.feature) << "trial " << trial;
-            ASSERT_EQ(replayed.undecided, fresh.undecided) << "trial " << trial;
-            ASSERT_EQ(replayed.queries, fresh.queries) << "trial " << trial;
+            ASSERT_TRUE(same_answer(replayed, fresh)) << "trial " << trial;
             hits += fresh.hit ? 1 : 0;
             from_memo += replayed.reused_queries;
         }
