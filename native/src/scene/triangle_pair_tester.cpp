@@ -96,24 +96,17 @@ bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t m
                               ? finer_.get()
                               : nullptr;
     const TrianglePairContact hit = triangle_pair_ccd(a, b, mesh_a == mesh_b, settings, &vertex_face_memo_, replay);
-    counters_.primitive_queries += hit.queries;
+    count_queries(hit);
     counters_.reused_queries += hit.reused_queries;
-    if (hit.undecided) ++counters_.undecided_queries;
     if (!hit.hit) return false;
-    Contact contact;
-    contact.time = step.begin + hit.toi * (step.end - step.begin);
-    contact.mesh_a = mesh_a;
-    contact.tri_a = tri_a;
-    contact.mesh_b = mesh_b;
-    contact.tri_b = tri_b;
-    contact.feature = hit.feature;
-    contact.undecided = hit.undecided;
+    Contact contact = contact_from(mesh_a, tri_a, mesh_b, tri_b, step, hit);
     if (replay) {
         CCDSettings finer = settings;
         finer.tolerance = finer_tolerance_;
-        const TrianglePairContact confirming = finer_triangle_pair_ccd(a, b, mesh_a == mesh_b, finer, *replay, &finer_memo_);
-        contact.carried = {true,           step.begin,     step.end,           confirming.hit,
-                           confirming.toi, confirming.feature, confirming.undecided, confirming.queries};
+        contact.carried.answer = finer_triangle_pair_ccd(a, b, mesh_a == mesh_b, finer, *replay, &finer_memo_);
+        contact.carried.begin = step.begin;
+        contact.carried.end = step.end;
+        contact.carried.known = true;
     }
     record(contact);
     return true;
@@ -126,20 +119,29 @@ void TrianglePairTester::carry_confirmations(double finer_tolerance) {
 
 bool TrianglePairTester::apply_carried(const Contact& candidate, const PairStep& step) {
     ++counters_.narrow_phase_tests;
-    const CarriedConfirmation& carried = candidate.carried;
-    counters_.primitive_queries += carried.queries;
-    if (carried.undecided) ++counters_.undecided_queries;
-    if (!carried.hit) return false;
-    Contact contact;
-    contact.time = step.begin + carried.toi * (step.end - step.begin);
-    contact.mesh_a = candidate.mesh_a;
-    contact.tri_a = candidate.tri_a;
-    contact.mesh_b = candidate.mesh_b;
-    contact.tri_b = candidate.tri_b;
-    contact.feature = carried.feature;
-    contact.undecided = carried.undecided;
-    record(contact);
+    const TrianglePairContact& answer = candidate.carried.answer;
+    count_queries(answer);
+    if (!answer.hit) return false;
+    record(contact_from(candidate.mesh_a, candidate.tri_a, candidate.mesh_b, candidate.tri_b, step, answer));
     return true;
+}
+
+void TrianglePairTester::count_queries(const TrianglePairContact& answer) {
+    counters_.primitive_queries += answer.queries;
+    if (answer.undecided) ++counters_.undecided_queries;
+}
+
+Contact TrianglePairTester::contact_from(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
+                                         const PairStep& step, const TrianglePairContact& answer) {
+    Contact contact;
+    contact.time = step.begin + answer.toi * (step.end - step.begin);
+    contact.mesh_a = mesh_a;
+    contact.tri_a = tri_a;
+    contact.mesh_b = mesh_b;
+    contact.tri_b = tri_b;
+    contact.feature = answer.feature;
+    contact.undecided = answer.undecided;
+    return contact;
 }
 
 StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double from,
@@ -272,9 +274,8 @@ bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh
         const TrianglePairContact still = triangle_pair_ccd(MovingTriangle{ids_a, at_a, at_a},
                                                             MovingTriangle{ids_b, at_b, at_b}, mesh_a == mesh_b,
                                                             settings_for(mesh_a, tri_a, mesh_b, tri_b), &vertex_face_memo_);
-        counters_.primitive_queries += still.queries;
+        count_queries(still);
         counters_.reused_queries += still.reused_queries;
-        if (still.undecided) ++counters_.undecided_queries;
         hit = still.hit;
     }
     if (!hit) return false;

@@ -7,26 +7,13 @@
 #include "usdksl/ccd/finer_search_fork.hpp"
 #include "usdksl/ccd/vertex_face_memo.hpp"
 #include "usdksl/narrow_phase/feature.hpp"
+#include "usdksl/narrow_phase/triangle_pair_contact.hpp"
 #include "usdksl/types.hpp"
 
 #include <array>
 #include <cstdint>
 
 namespace usdksl {
-
-/// @brief Earliest contact of one triangle pair over one step.
-struct TrianglePairContact {
-    bool hit = false;
-    /// @brief Fraction of the step in [0,1]; a conservative (early) bound.
-    double toi = 1.0;
-    ContactFeature feature = ContactFeature::VertexFace;
-    /// @brief True when any contributing primitive query hit the iteration cap.
-    bool undecided = false;
-    /// @brief Number of primitive CCD queries run (counter for benchmarks).
-    int32_t queries = 0;
-    /// @brief Of those, vertex-face queries answered by the memo (counter for benchmarks).
-    int32_t reused_queries = 0;
-};
 
 /// @brief Vertex ids and positions of one triangle at the start and end of a step.
 struct MovingTriangle {

@@ -3,6 +3,7 @@
 /// @brief A first contact between two triangles.
 
 #include "usdksl/narrow_phase/feature.hpp"
+#include "usdksl/narrow_phase/triangle_pair_contact.hpp"
 
 #include <cstdint>
 #include <tuple>
@@ -14,16 +15,10 @@ namespace usdksl {
 ///        triangle-pair test of the raw step [begin, end) (time codes), as
 ///        the raw-sample confirmation would compute it.
 struct CarriedConfirmation {
-    bool known = false;
     double begin = 0.0;
     double end = 0.0;
-    bool hit = false;
-    /// @brief Fraction of the step.
-    double toi = 1.0;
-    ContactFeature feature = ContactFeature::VertexFace;
-    bool undecided = false;
-    /// @brief Primitive queries of that test (counter).
-    int32_t queries = 0;
+    TrianglePairContact answer;
+    bool known = false;
 };
 
 /// @brief First contact of one triangle pair. For self contacts mesh_a == mesh_b

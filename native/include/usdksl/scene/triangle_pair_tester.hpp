@@ -114,6 +114,13 @@ private:
                         const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
                         const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1, bool raw_positions);
     void record(const Contact& contact);
+    /// Adds a narrow-phase answer's primitive queries (and whether it was
+    /// undecided) to the counters.
+    void count_queries(const TrianglePairContact& answer);
+    /// The contact that `answer` (a hit on `step`) reports for the
+    /// canonically ordered pair.
+    static Contact contact_from(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, const PairStep& step,
+                                const TrianglePairContact& answer);
 
     const Scene& scene_;
     CCDSettings settings_;
