@@ -710,7 +710,7 @@ CCDResult search_boxes(RootSearch& search, const CCDSettings& settings, double t
         ParameterBox low = clipped, high = clipped;
         low.depth = high.depth = box.depth + 1;
         if (split_axis == 0) {
-            const double mid = 0.5 * (clipped.t_lo + clipped.t_hi);
+            const double mid = clipped.t_lo + TIME_SPLIT_FRACTION * (clipped.t_hi - clipped.t_lo);
             low.t_hi = mid;
             high.t_lo = mid;
         } else if (split_axis == 1) {
