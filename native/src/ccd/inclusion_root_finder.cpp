@@ -43,7 +43,8 @@ constexpr PairIndices EDGE_EDGE_PAIRS{0, 2, 0, 1, 3, 2};
 /// per world axis, and projected on each separating direction (corner index
 /// it*4 + iu*2 + iv).
 struct BoxImage {
-    static constexpr int MAX_DIRECTIONS = 4;
+    /// Up to 4 chosen once per search, 3 more per box (add_box_directions).
+    static constexpr int MAX_DIRECTIONS = 7;
     double corner[2][2][2][3];
     double projected[MAX_DIRECTIONS][8];
     /// Per world axis: the hull of the float corner values.
@@ -182,6 +183,42 @@ public:
         if (directions_chosen_) return;
         directions_chosen_ = true;
         choose_separating_directions(thickness_, corner_error_, max_abs_);
+        search_direction_count_ = direction_count_;
+    }
+
+    /// Directions that each isolate one parameter near the box: the rows of
+    /// the inverse Jacobian of F at the box's centre, up to scale (n_t is
+    /// orthogonal to dF/du and dF/dv, so n_t.F varies with t alone to first
+    /// order, and likewise n_u, n_v). Clipping along them narrows every
+    /// parameter to second-order terms of the box's widths, where the world
+    /// axes and the fixed directions narrow it only by a constant factor per
+    /// split (the face normal turns during the step). Their bounds hold the
+    /// whole thickness cube (DirectionBound::Cube), so they exclude nothing
+    /// the world axes accept: what a search accepts stays the same whatever
+    /// the motion (a still pair gets none of them), only found sooner.
+    void add_box_directions(const ParameterBox& box) {
+        direction_count_ = search_direction_count_;
+        const double t = 0.5 * (box.t_lo + box.t_hi);
+        const double u = 0.5 * (box.u_lo + box.u_hi);
+        const double v = 0.5 * (box.v_lo + box.v_hi);
+        const TermsAtTime at = terms_at(t);
+        Vec3 along_t, along_u, along_v;
+        for (int k = 0; k < 3; ++k) {
+            const double w_rate = displacement_[pairs_.w_plus][k] - displacement_[pairs_.w_minus][k];
+            const double e1_rate = displacement_[pairs_.e1_plus][k] - displacement_[pairs_.e1_minus][k];
+            const double e2_rate = displacement_[pairs_.e2_plus][k] - displacement_[pairs_.e2_minus][k];
+            along_t[k] = w_rate - u * e1_rate - v * e2_rate;
+            along_u[k] = at.e1[k];
+            along_v[k] = at.e2[k];
+        }
+        const Vec3 isolates_t = along_u.cross(along_v);
+        // A singular Jacobian (coplanar motion, parallel edges) has no such
+        // rows: the directions would separate no better than the fixed ones.
+        const double volume = std::abs(isolates_t.dot(along_t));
+        if (!(volume > BOX_DIRECTIONS_MIN_SINE * isolates_t.norm() * along_t.norm())) return;
+        add_direction(isolates_t, thickness_, corner_error_, max_abs_, DirectionBound::Cube);
+        add_direction(along_v.cross(along_t), thickness_, corner_error_, max_abs_, DirectionBound::Cube);
+        add_direction(along_t.cross(along_u), thickness_, corner_error_, max_abs_, DirectionBound::Cube);
     }
 
     TermsAtTime terms_at(double t) const {
@@ -242,7 +279,10 @@ public:
         if (inside) return excluded_exactly(box, image) ? Verdict::Excluded : Verdict::Inside;
         ensure_directions();
         auto& projected = image.projected;
-        if (excluded_by_directions(corner, projected)) return Verdict::Excluded;
+        direction_count_ = search_direction_count_;
+        if (excluded_by_directions(corner, projected, 0)) return Verdict::Excluded;
+        add_box_directions(box);
+        if (excluded_by_directions(corner, projected, search_direction_count_)) return Verdict::Excluded;
 
         variation[0] = variation[1] = variation[2] = 0.0;
         if (rule == SplitRule::Overall) {
@@ -315,7 +355,13 @@ public:
         }
     }
 
-    void add_direction(const Vec3& n, double thickness, const double error[3], const double max_abs[3]) {
+    /// What the thickness bounds along a direction n: |n.F| <= thickness |n|
+    /// for F in the Euclidean ball, <= thickness |n|_1 for F anywhere in the
+    /// cube the world axes accept.
+    enum class DirectionBound { Euclidean, Cube };
+
+    void add_direction(const Vec3& n, double thickness, const double error[3], const double max_abs[3],
+                       DirectionBound kind = DirectionBound::Euclidean) {
         if (direction_count_ >= MAX_DIRECTIONS) return;
         const double scale = n.cwiseAbs().maxCoeff();
         if (!(scale > 0.0) || !std::isfinite(scale)) return;
@@ -326,15 +372,15 @@ public:
         for (int k = 0; k < 3; ++k)
             error_bound += std::abs(unit_ish[k]) *
                            (error[k] + 4.0 * DOUBLE_UNIT_ROUNDOFF * (6.0 * max_abs[k] + error[k]));
-        const double euclidean_length = unit_ish.norm() * CCD_BOUND_INFLATION;
+        const double length =
+            (kind == DirectionBound::Cube ? unit_ish.lpNorm<1>() : unit_ish.norm()) * CCD_BOUND_INFLATION;
         Direction& d = directions_[direction_count_++];
         for (int k = 0; k < 3; ++k) d.n[k] = unit_ish[k];
-        d.bound = (thickness * euclidean_length + error_bound) * CCD_BOUND_INFLATION;
+        d.bound = (thickness * length + error_bound) * CCD_BOUND_INFLATION;
     }
 
-    bool excluded_by_directions(const double corner[2][2][2][3],
-                                double projected[][8]) const {
-        for (int i = 0; i < direction_count_; ++i) {
+    bool excluded_by_directions(const double corner[2][2][2][3], double projected[][8], int from) const {
+        for (int i = from; i < direction_count_; ++i) {
             const Direction& d = directions_[i];
             double lo = INFINITY, hi = -INFINITY;
             for (int c = 0; c < 8; ++c) {
@@ -539,6 +585,8 @@ private:
     static constexpr int MAX_DIRECTIONS = BoxImage::MAX_DIRECTIONS;
     Direction directions_[MAX_DIRECTIONS];
     int direction_count_ = 0;
+    /// Directions chosen once per search (the first of directions_).
+    int search_direction_count_ = 0;
     double start_[4][3];
     double end_[4][3];
     double displacement_[4][3];

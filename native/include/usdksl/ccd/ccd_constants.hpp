@@ -89,6 +89,15 @@ constexpr double FACE_ORIGIN_WIDE_EDGE_RATIO = 0.7;
 ///        public query sets as with purely parametric tolerances.
 constexpr double SPATIAL_TOLERANCE_MARGIN = 10.0;
 
+/// @brief Smallest sine of the angle between the distance function's rate in
+///        time and the plane of its (u, v) rates at a box's centre for which
+///        the root search clips that box along the rows of F's inverse
+///        Jacobian (dimensionless): below it the Jacobian is too near
+///        singular (coplanar motion, parallel edges, a pair holding still)
+///        for them to separate better than the other directions (a speed
+///        setting, no effect on conservativeness).
+constexpr double BOX_DIRECTIONS_MIN_SINE = 1e-3;
+
 /// @brief Where the root search splits a box along time, as a fraction of
 ///        its time range from the early end (dimensionless; a speed setting,
 ///        no effect on conservativeness: the earliest box is always searched
