@@ -2,8 +2,9 @@
 
 The command runs in a fresh interpreter that lists, at exit, the modules it imported. Optional
 machinery (Dask, tqdm, matplotlib, Embree), the other commands' modules, importlib.metadata (only
-``--version``, the JSON report and a farm chunk's manifest need the version) and UsdPhysics (on a stage
-without physics schemas) must not be among them; asking for a JSON report does look the version up.
+``--version``, the JSON report and a farm chunk's manifest need the version), UsdPhysics (on a stage
+without physics schemas) and numpy's masked arrays (usdksl.unmasked) must not be among them; asking for a
+JSON report does look the version up.
 """
 
 import json
@@ -15,7 +16,7 @@ import sys
 NOT_IMPORTED_BY_A_PLAIN_CHECK = ("dask", "distributed", "tqdm", "matplotlib", "embreex", "importlib.metadata",
                                  "usdksl.crosscheck", "usdksl.scale.dask_runner", "usdksl.scale.merge",
                                  "usdksl.cli.crosscheck", "usdksl.cli.bench", "usdksl.cli.merge", "usdksl.cli.info",
-                                 "pxr.UsdPhysics", "pxr.UsdShade")
+                                 "pxr.UsdPhysics", "pxr.UsdShade", "numpy.ma")
 
 LIST_MODULES_AT_EXIT = """
 import atexit, json, sys

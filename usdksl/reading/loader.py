@@ -35,6 +35,7 @@ import numpy as np
 from pxr import Tf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError, UsdkslUsageError
+from ..unmasked import distinct_sorted
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
 from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
                      unmeshed_solid_kind, _window, load_mesh,  # noqa: F401
@@ -290,7 +291,7 @@ def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: In
                                file=file)
     warnings.extend(layer_rates.rescaled_layer_warnings(
         stage, [prim for source in sources for prim in source.motion_prims()], file))
-    shot_times = np.unique(np.concatenate([mesh.times for mesh in meshes]))
+    shot_times = distinct_sorted(np.concatenate([mesh.times for mesh in meshes]))
     return Shot(path=file, meshes=meshes, times=shot_times, metadata=metadata, stage=stage,
                 warnings=warnings, unchecked=unchecked)
 

@@ -16,6 +16,7 @@ import numpy as np
 from pxr import Sdf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError
+from ..unmasked import distinct_sorted
 from .triangulate import fan_triangulate
 
 STATIC = "static"
@@ -143,7 +144,7 @@ def _window(times: np.ndarray, time_range: Optional[Tuple[float, float]]) -> np.
     start, end = time_range
     inside = times[(times > start) & (times < end)]
     ends = [start] if end == start else [start, end]
-    return np.unique(np.concatenate([np.array(ends, dtype=np.float64), inside]))
+    return distinct_sorted(np.concatenate([np.array(ends, dtype=np.float64), inside]))
 
 
 def _topology_sample_times(mesh: UsdGeom.Mesh) -> List[float]:
