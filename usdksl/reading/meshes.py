@@ -130,6 +130,22 @@ def xform_sample_times(prim: Usd.Prim) -> List[float]:
     return sorted(times)
 
 
+def transform_may_vary(prim: Usd.Prim) -> bool:
+    """Whether the local-to-world transform of ``prim`` can differ between two times: an xformOp of the
+    prim or of an ancestor (up to a resetXformStack) has more than one time sample (or value clips).
+    An op with a single time sample holds that value at every time, so it moves nothing."""
+    current = prim
+    while current and not current.IsPseudoRoot():
+        xformable = UsdGeom.Xformable(current)
+        if xformable:
+            if xformable.TransformMightBeTimeVarying():
+                return True
+            if xformable.GetResetXformStack():
+                break
+        current = current.GetParent()
+    return False
+
+
 def mesh_sample_times(prim: Usd.Prim) -> np.ndarray:
     """Union of the ``points`` samples and the xform chain samples of a mesh (may be empty)."""
     times = set(UsdGeom.Mesh(prim).GetPointsAttr().GetTimeSamples())
@@ -431,9 +447,9 @@ def load_mesh(prim: Usd.Prim, times: np.ndarray, file: str = "",
     times = np.asarray(times, dtype=np.float64)
     topology = read_topology(prim, times, file)
 
-    xform_animated = bool(xform_sample_times(prim))
     points_animated = points_attr.GetNumTimeSamples() > 1
-    fixed_matrix = None if xform_animated else matrices.local_to_world(prim, topology.first_time)
+    # a transform that cannot vary is the same matrix at every sample: computed once, applied in blocks
+    fixed_matrix = None if transform_may_vary(prim) else matrices.local_to_world(prim, topology.first_time)
 
     points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float64)
     if fixed_matrix is not None:
