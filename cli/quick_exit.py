@@ -9,7 +9,8 @@ it), a few percent of a whole ``usdksl check`` of a small shot, and changes noth
 handlers run (Python code that registered them still gets its say) and stdout and stderr are flushed --
 and then ends the process with ``os._exit``. It falls back on the normal exit whenever skipping the
 teardown could be noticed: another thread still runs (a normal exit waits for it), the exit code is not
-a number (Python prints it), or flushing a stream fails (Python reports that and exits 120).
+a number (Python prints it), a profiler or tracer watches (``python -m cProfile`` writes its report
+after the command returns), or flushing a stream fails (Python reports that and exits 120).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ def exit_quickly(code: Optional[Union[int, str]]) -> None:
     returns (having done nothing) when the normal exit has to do it (module docstring)."""
     if code is not None and not isinstance(code, int):
         return
-    if threading.active_count() > 1:
+    if threading.active_count() > 1 or sys.getprofile() is not None or sys.gettrace() is not None:
         return
     atexit._run_exitfuncs()   # they run once: the normal exit finds none left if we return below
     for stream in (sys.stdout, sys.stderr, sys.__stdout__, sys.__stderr__):

@@ -1,6 +1,7 @@
 """A finished ``usdksl`` command ends without the interpreter's teardown, yet nothing visible changes:
 the exit code, everything printed (also unflushed), atexit handlers; and where skipping the teardown would
-show (another thread still running, an exit code that is a message), the normal exit does the work."""
+show (another thread still running, an exit code that is a message, a profiler), the normal exit does the
+work."""
 
 import subprocess
 import sys
@@ -48,3 +49,13 @@ def test_a_message_as_exit_code_gets_the_normal_exit_which_prints_it():
     assert completed.returncode == 1
     assert completed.stdout == "printed, not flushed normal exit atexit"
     assert completed.stderr == "and on stderrbad input\n"
+
+
+def test_a_profiled_run_gets_the_normal_exit_so_the_profile_is_written(tmp_path):
+    script, report = tmp_path / "ending.py", tmp_path / "run.prof"
+    script.write_text(ENDING)
+    completed = subprocess.run([sys.executable, "-m", "cProfile", "-o", str(report), str(script), "2"],
+                               capture_output=True, text=True)
+    assert completed.returncode == 0   # cProfile's own way: it swallows the script's SystemExit
+    assert completed.stdout == "printed, not flushed normal exit atexit"
+    assert report.is_file() and report.stat().st_size > 0
