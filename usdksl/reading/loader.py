@@ -302,13 +302,13 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
     prototype mesh, each with ``sample_times()`` and ``load()``. Geometry read past without a check
     (nested instancers, solid non-meshes) goes to ``unchecked``, each with a line in ``warnings``.
     Raises UsdkslInputError when there is nothing to load."""
-    from . import instancing, skinning   # they build on this module
+    from . import instancing   # it builds on this module
 
     unchecked = unchecked if unchecked is not None else []
     in_prototypes: List[Tuple[str, str]] = []     # (kind, path) of solid non-meshes in instanced prototypes
     try:
         prims = mesh_prims(stage, include)
-        skinned = skinning.find_skinned_meshes(stage)
+        skinned = _skinned_meshes(stage)
         sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
         sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings,
                                                      skinned, unchecked, in_prototypes)
@@ -321,6 +321,22 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
         what = "no UsdGeom.Mesh prims" if include is None else "no UsdGeom.Mesh prims match the selection"
         raise UsdkslInputError(f"{what} on the stage", file=file)
     return sources
+
+
+#: The schema UsdSkel poses meshes under (UsdSkel.Root), named so that a stage can be searched for it before
+#: pxr.UsdSkel is imported: most caches have no skeleton, and that import costs about 8 ms.
+SKEL_ROOT_SCHEMA = "SkelRoot"
+
+
+def _skinned_meshes(stage: Usd.Stage) -> dict:
+    """:func:`usdksl.reading.skinning.find_skinned_meshes`, or {} when no prim it would visit is a SkelRoot
+    (then UsdSkel is not imported)."""
+    predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)   # the prims find_skinned_meshes visits
+    if not any(prim.IsA(SKEL_ROOT_SCHEMA) for prim in Usd.PrimRange.Stage(stage, predicate)):
+        return {}
+    from . import skinning   # it builds on this module
+
+    return skinning.find_skinned_meshes(stage)
 
 
 def _source_sample_times(sources: Sequence, file: str) -> List[np.ndarray]:
