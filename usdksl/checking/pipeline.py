@@ -34,6 +34,7 @@ from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import package_version
 from .collision import METHODS, default_threads, find_contacts
 from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
+from .progress import Progress
 
 # Imported where they are used, so that a plain check does not pay for them at start-up: the JUnit
 # writer (xml.etree), a farm chunk's manifest (hashlib), the contact timeline and the backwards run of
@@ -273,9 +274,9 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     try:
         for (segment_range, segment), segment_plan in zip(planned.segments, planned.plans):
             contacts_before = sum(table.count for table in tables)
-            report = None if bar is None else (
+            report = None if not _shown(bar) else (
                 lambda reached, count, before=contacts_before: bar(reached, before + count))
-            reverse_report = None if reverse_bar is None else (
+            reverse_report = None if not _shown(reverse_bar) else (
                 lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
             tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
                                         reverse_report))
@@ -285,6 +286,14 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
                 shown.close()
     return conclude(shot, name, options, targets, planned, tables, span, counters, messages, say, baseline,
                     started)
+
+
+def _shown(bar) -> bool:
+    """Whether the core should hand its progress to ``bar``: not to a usdksl Progress that is not drawn (in
+    CI, in a pipe), whose calls change nothing anyone sees. Each call takes the GIL from the core's
+    threads, which costs them time when the machine is busy; without one the core still calls back as
+    often to check for Ctrl-C, SIGTERM and --timeout (usdksl.stopping)."""
+    return bar is not None and not (isinstance(bar, Progress) and not bar.enabled)
 
 
 def message_collector(messages: List[Message],
