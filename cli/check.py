@@ -17,7 +17,7 @@ import sys
 
 import click
 
-from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from ..ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..checking.collision import METHODS
 from ..baseline import baseline_for_shot
 from ..checking.pipeline import (NORMAL, QUIET, VERBOSE, WARNING, CheckOptions, Message, check_shot,

@@ -4,9 +4,9 @@ The command runs in a fresh interpreter that lists, at exit, the modules it impo
 machinery (Dask, tqdm, matplotlib, Embree), the other commands' modules, importlib.metadata (only
 ``--version``, the JSON report and a farm chunk's manifest need the version), UsdPhysics (on a stage
 without physics schemas), UsdSkel and usdksl's skinning (on a stage without a SkelRoot), numpy's masked
-arrays (usdksl.unmasked), the JUnit writer, a chunk's manifest, the contact timeline, the
-backwards run of --last-contact and the many-shot machinery must not be among them; asking for a JSON
-report does look the version up, and asking for a JUnit report loads its writer.
+arrays (usdksl.unmasked), the JUnit writer, a chunk's manifest, the contact timeline, the backwards run
+of --last-contact, the many-shot machinery and the batch CCD query API must not be among them; asking
+for a JSON report does look the version up, and asking for a JUnit report loads its writer.
 """
 
 import json
@@ -22,7 +22,7 @@ NOT_IMPORTED_BY_A_PLAIN_CHECK = ("dask", "distributed", "tqdm", "matplotlib", "e
                                  "usdksl.reading.skinning", "usdksl.reports.junit", "xml.etree",
                                  "usdksl.reports.manifest", "usdksl.reports.timeline",
                                  "usdksl.checking.last_contact", "usdksl.scale.batch",
-                                 "usdksl.scale.batch_progress")
+                                 "usdksl.scale.batch_progress", "usdksl.ccd")
 
 LIST_MODULES_AT_EXIT = """
 import atexit, json, sys

@@ -18,7 +18,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ..baseline import Baseline, BaselineComparison, compare
-from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from ..ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..clock import StageClock
 from ..contacts import ContactTable
 from ..errors import UsdkslInputError, UsdkslUsageError
