@@ -330,10 +330,12 @@ SKEL_ROOT_SCHEMA = "SkelRoot"
 
 def _skinned_meshes(stage: Usd.Stage) -> dict:
     """:func:`usdksl.reading.skinning.find_skinned_meshes`, or {} when no prim it would visit is a SkelRoot
-    (then UsdSkel is not imported)."""
-    predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)   # the prims find_skinned_meshes visits
-    if not any(prim.IsA(SKEL_ROOT_SCHEMA) for prim in Usd.PrimRange.Stage(stage, predicate)):
-        return {}
+    (then UsdSkel is not imported). A USD that cannot name the schema's type asks UsdSkel itself."""
+    skel_root = Usd.SchemaRegistry.GetTypeFromSchemaTypeName(SKEL_ROOT_SCHEMA)
+    if not skel_root.isUnknown:
+        predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)   # what find_skinned_meshes visits
+        if not any(prim.IsA(skel_root) for prim in Usd.PrimRange.Stage(stage, predicate)):
+            return {}
     from . import skinning   # it builds on this module
 
     return skinning.find_skinned_meshes(stage)
