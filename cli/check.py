@@ -17,7 +17,7 @@ import sys
 
 import click
 
-from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from ..ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..checking.collision import METHODS
 from ..baseline import baseline_for_shot
 from ..checking.pipeline import (NORMAL, QUIET, VERBOSE, WARNING, CheckOptions, Message, check_shot,
@@ -26,11 +26,8 @@ from ..checking.progress import Progress, progress_enabled
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import INPUT_ERROR
 from ..reports.output import write_files
-from ..reports.junit import junit_error_report
 from ..reports.override import shot_stem
-from ..scale.batch import (ShotOutcome, expand_shots, junit_for_outcomes, make_jobs, run_batch, run_here,
-                           total_line, worst_exit_code)
-from ..scale.batch_progress import BatchProgress
+from ..scale.shot_arguments import expand_shots
 from ..stopping import Stopped, deferred_stops, stop_on_signals
 from .options import parse_time_range
 
@@ -153,6 +150,8 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
 
 def _write_stopped_junit(junit_path, shots, finished, message, exit_code):
     """The --junit report of a stopped run: the finished shots as checked, an <error> for every other."""
+    from ..scale.batch import ShotOutcome, junit_for_outcomes
+
     done = {outcome.name: outcome for outcome in finished}
     outcomes = [done.get(shot) or ShotOutcome(name=shot, exit_code=exit_code, error=message) for shot in shots]
     try:
@@ -165,6 +164,8 @@ def _fail(shots, message, junit_path, exit_code=INPUT_ERROR, kind="error"):
     """Say why the check could not be done, write the --junit report of it (an <error> per shot) and exit."""
     _echo(f"usdksl: {kind}: {message}")
     if junit_path and junit_path != "-":
+        from ..reports.junit import junit_error_report   # xml.etree: only for a report
+
         try:
             write_files({junit_path: junit_error_report(shots, message)})
         except UsdkslInputError as error:
@@ -216,6 +217,9 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
                 verbosity, plot_path, finished):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
     ``finished`` collects the outcomes shown (their files are written)."""
+    from ..scale.batch import junit_for_outcomes, make_jobs, run_batch, run_here, total_line, worst_exit_code
+    from ..scale.batch_progress import BatchProgress
+
     if jobs is not None and scheduler is not None:
         raise click.UsageError("give --jobs or --scheduler, not both")
     try:

@@ -4,9 +4,12 @@ A command's module is imported only when that command runs (or ``--help`` lists 
 does not pay for the cross-check's Embree code, the farm merge or the benchmark driver at start-up.
 """
 
+from contextlib import nullcontext
 from importlib import import_module
 
 import click
+
+from .import_pause import collector_paused
 
 #: Command name -> the module (relative to this package) that defines it, under the same name.
 COMMAND_MODULES = {
@@ -21,6 +24,11 @@ COMMAND_MODULES = {
 class LazyCommands(click.Group):
     """A click group that imports a command's module the first time the command is asked for."""
 
+    #: Import it with the cyclic garbage collector paused (cli/import_pause.py). The console script turns
+    #: this on for its own process; in-process callers (tests, code embedding the CLI) keep their collector
+    #: as it is.
+    pause_collector_on_import = False
+
     def list_commands(self, ctx):
         return sorted(COMMAND_MODULES)
 
@@ -28,7 +36,9 @@ class LazyCommands(click.Group):
         module_name = COMMAND_MODULES.get(name)
         if module_name is None:
             return None
-        return getattr(import_module(module_name, __package__), name)
+        with collector_paused() if self.pause_collector_on_import else nullcontext():
+            module = import_module(module_name, __package__)
+        return getattr(module, name)
 
 
 def _show_version(ctx, _param, value):

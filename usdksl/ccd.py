@@ -18,15 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _native
-
-# The defaults are the native core's (native/include/usdksl/constants.hpp), read through the binding so
-# they are written once.
-#: Width (fraction of the step) of the time interval at which refinement stops.
-DEFAULT_TOLERANCE: float = _native.DEFAULT_CCD_TOLERANCE
-#: Cap on sub-box refinements of one query; reaching it makes it undecided.
-DEFAULT_MAX_ITERATIONS: int = _native.DEFAULT_CCD_MAX_ITERATIONS
-#: Minimum separation (scene units): a contact is a distance <= thickness.
-DEFAULT_THICKNESS: float = _native.DEFAULT_THICKNESS
+from .ccd_defaults import DEFAULT_MAX_ITERATIONS, DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 
 __all__ = [
     "DEFAULT_TOLERANCE",

@@ -2,8 +2,11 @@
 
 The command runs in a fresh interpreter that lists, at exit, the modules it imported. Optional
 machinery (Dask, tqdm, matplotlib, Embree), the other commands' modules, importlib.metadata (only
-``--version``, the JSON report and a farm chunk's manifest need the version) and UsdPhysics (on a stage
-without physics schemas) must not be among them; asking for a JSON report does look the version up.
+``--version``, the JSON report and a farm chunk's manifest need the version), UsdPhysics (on a stage
+without physics schemas), UsdSkel and usdksl's skinning (on a stage without a SkelRoot), numpy's masked
+arrays (usdksl.unmasked), the JUnit writer, a chunk's manifest, the contact timeline, the backwards run
+of --last-contact, the many-shot machinery and the batch CCD query API must not be among them; asking
+for a JSON report does look the version up, and asking for a JUnit report loads its writer.
 """
 
 import json
@@ -15,7 +18,11 @@ import sys
 NOT_IMPORTED_BY_A_PLAIN_CHECK = ("dask", "distributed", "tqdm", "matplotlib", "embreex", "importlib.metadata",
                                  "usdksl.crosscheck", "usdksl.scale.dask_runner", "usdksl.scale.merge",
                                  "usdksl.cli.crosscheck", "usdksl.cli.bench", "usdksl.cli.merge", "usdksl.cli.info",
-                                 "pxr.UsdPhysics", "pxr.UsdShade")
+                                 "pxr.UsdPhysics", "pxr.UsdShade", "numpy.ma", "pxr.UsdSkel",
+                                 "usdksl.reading.skinning", "usdksl.reports.junit", "xml.etree",
+                                 "usdksl.reports.manifest", "usdksl.reports.timeline",
+                                 "usdksl.checking.last_contact", "usdksl.scale.batch",
+                                 "usdksl.scale.batch_progress", "usdksl.ccd")
 
 LIST_MODULES_AT_EXIT = """
 import atexit, json, sys
@@ -42,6 +49,12 @@ def test_a_plain_check_imports_no_optional_machinery(two_quads_shot, tmp_path):
     modules = _modules_imported_by("check", two_quads_shot, "--out", tmp_path)
     assert "usdksl._native" in modules and "usdksl.cli.check" in modules
     assert _matching(modules, NOT_IMPORTED_BY_A_PLAIN_CHECK) == []
+
+
+def test_a_junit_report_loads_its_writer(two_quads_shot, tmp_path):
+    modules = _modules_imported_by("check", two_quads_shot, "--out", tmp_path, "--junit", tmp_path / "junit.xml")
+    assert "usdksl.reports.junit" in modules and "xml.etree.ElementTree" in modules
+    assert "<testsuite" in (tmp_path / "junit.xml").read_text()
 
 
 def test_a_json_report_looks_the_version_up(two_quads_shot, tmp_path):

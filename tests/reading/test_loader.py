@@ -356,3 +356,52 @@ def test_a_stack_of_samples_goes_to_world_space_with_the_same_numbers_as_one_by_
     for k in range(local.shape[0]):
         _to_world(local[k], matrix, one_by_one[k])
     assert stacked.tobytes() == one_by_one.tobytes()
+
+
+def test_transforms_held_by_single_samples_move_every_sample_as_pxr_says(build):
+    """xformOps with one time sample each (a cache's one-sample scale, as Newton writes it) hold their value
+    at every time: the loader computes that transform once, and every sample's world points are still
+    bit for bit the authored points through pxr's local-to-world matrix at that sample."""
+    from usdksl.reading.meshes import _to_world, transform_may_vary
+
+    points, counts, indices = quad_grid(3, 2)
+    samples = {float(t): points + np.outer(np.sin(np.arange(len(points)) + t), [0.0, 0.1, 0.0]) for t in range(1, 6)}
+
+    def fill(stage):
+        root = UsdGeom.Xform.Define(stage, "/Root")
+        root.AddScaleOp().Set(Gf.Vec3f(2.0, 0.5, 1.5), 0.0)
+        root.AddRotateYOp().Set(30.0, 7.0)
+        child = UsdGeom.Xform.Define(stage, "/Root/Child")
+        child.AddTranslateOp().Set(Gf.Vec3d(1.0, -2.0, 0.25), 3.0)
+        write_mesh(stage, "/Root/Child/Cloth", counts, indices, samples=samples)
+        write_mesh(stage, "/Root/Child/Still", counts, indices, points=points)
+        mover = UsdGeom.Xform.Define(stage, "/Root/Mover")
+        move = mover.AddTranslateOp()
+        move.Set(Gf.Vec3d(0.0, 0.0, 0.0), 1.0)
+        move.Set(Gf.Vec3d(0.0, 1.0, 0.0), 4.0)
+        write_mesh(stage, "/Root/Mover/Held", counts, indices, points=points).SetResetXformStack(True)
+        write_mesh(stage, "/Root/Mover/Carried", counts, indices, points=points)
+
+    path = build("held.usda", fill)
+    stage = Usd.Stage.Open(path)
+    assert not transform_may_vary(stage.GetPrimAtPath("/Root/Child/Cloth"))
+    assert not transform_may_vary(stage.GetPrimAtPath("/Root/Mover/Held"))   # resetXformStack
+    assert transform_may_vary(stage.GetPrimAtPath("/Root/Mover/Carried"))
+    shot = load_shot(path)
+    cloth = shot.mesh("/Root/Child/Cloth")
+    assert cloth.kind == "deforming"
+    assert cloth.times.tolist() == [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 7.0]
+    prim = stage.GetPrimAtPath(cloth.path)
+    for k, time in enumerate(cloth.times):
+        local = np.asarray(UsdGeom.Mesh(prim).GetPointsAttr().Get(time))
+        matrix = np.array(UsdGeom.XformCache(Usd.TimeCode(time)).GetLocalToWorldTransform(prim))
+        expected = np.empty(local.shape, np.float64)
+        _to_world(local, matrix, expected)
+        assert cloth.points[k].tobytes() == expected.tobytes()
+        np.testing.assert_allclose(cloth.points[k], reference_world_points(stage, cloth.path, time), atol=1e-12)
+    still = shot.mesh("/Root/Child/Still")
+    assert still.kind == "static" and still.points.shape == (1, len(points), 3)
+    np.testing.assert_allclose(still.points[0], reference_world_points(stage, still.path, still.times[0]),
+                               atol=1e-12)
+    assert shot.mesh("/Root/Mover/Held").kind == "static"
+    assert shot.mesh("/Root/Mover/Carried").kind == "rigid"

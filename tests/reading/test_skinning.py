@@ -70,6 +70,18 @@ def test_unbaked_stage_was_called_static_before(arm):
     assert names["arm"] in find_skinned_meshes(stage)
 
 
+def test_a_usd_that_cannot_name_the_skel_root_type_asks_usdskel(arm, monkeypatch):
+    """The loader looks for SkelRoots before importing UsdSkel; when USD does not know the schema's type by
+    name it does not conclude "no skeleton" but asks UsdSkel, and the arm is still posed."""
+    from usdksl.reading import loader
+
+    path, _, names = arm
+    expected = load_shot(path).mesh(names["arm"]).points
+    monkeypatch.setattr(loader, "SKEL_ROOT_SCHEMA", "NoSuchSchemaInThisUsd")
+    posed = load_shot(path).mesh(names["arm"])
+    assert posed.kind == "deforming" and posed.points.tobytes() == expected.tobytes()
+
+
 def test_info_calls_the_skinned_arm_deforming(arm):
     path, _, names = arm
     result = run_cli("info", path)

@@ -84,3 +84,31 @@ def test_progress_draws_only_on_a_tty_outside_ci():
     silent(24.0, 1)
     silent.close()
     assert quiet.getvalue() == "" and silent.contacts == 1 and silent.time_reached == 24.0
+
+
+def test_a_check_draws_a_shown_bar_and_leaves_an_undrawn_one_alone(samples_dir):
+    """check_shot hands the core's progress to a bar that is drawn (and to any other progress object), not
+    to a usdksl Progress that is not drawn: its calls would show nothing and cost the core's threads the GIL."""
+    from usdksl.checking.pipeline import check_shot
+
+    made = {}
+
+    def factory(kind):
+        def make(start, end, label=""):
+            if kind == "drawn":
+                made[kind] = Progress(start, end, stream=FakeTty(), enabled=True, clock=iter(range(10 ** 6)).__next__)
+            elif kind == "undrawn":
+                made[kind] = Progress(start, end, stream=io.StringIO(), enabled=False)
+            else:
+                made[kind] = calls = []
+                return lambda reached, contacts: calls.append(reached)
+            return made[kind]
+        return make
+
+    results = [check_shot(str(samples_dir / "fold.usda"), progress=factory(kind)).table.count
+               for kind in ("drawn", "undrawn", "callable")]
+    assert results[0] == results[1] == results[2] > 0
+    drawn, undrawn, calls = made["drawn"], made["undrawn"], made["callable"]
+    assert drawn.time_reached == drawn.end and f"t={drawn.end:g} of " in drawn.stream.getvalue()
+    assert undrawn.time_reached == undrawn.start and undrawn.stream.getvalue() == ""
+    assert calls and max(calls) == drawn.end

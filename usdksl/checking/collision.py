@@ -14,7 +14,7 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Tuple
 import numpy as np
 
 from .. import _native
-from ..ccd import DEFAULT_MAX_ITERATIONS, DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from ..ccd_defaults import DEFAULT_MAX_ITERATIONS, DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..contacts import ContactTable
 
 #: Broad phases of the core: kinetic separation lists, the swept-volume BVH baseline, per-sample

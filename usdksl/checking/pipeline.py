@@ -18,7 +18,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ..baseline import Baseline, BaselineComparison, compare
-from ..ccd import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from ..ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..clock import StageClock
 from ..contacts import ContactTable
 from ..errors import UsdkslInputError, UsdkslUsageError
@@ -29,15 +29,16 @@ from ..reading.loader import load_shot, mesh_prims, open_stage
 from ..reading.scope import Plan, ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
 from ..reading.segments import full_range, is_topology_change, split_range, topology_gaps
 from ..reports.formats import contacts_csv, json_report, mesh_pair_lines, summary_csv, summary_line
-from ..reports.junit import junit_report
-from ..reports.manifest import file_sha256, manifest_name, manifest_text
 from ..reports.output import check_writable_directory, resolve_output_path
-from ..reports.timeline import require_matplotlib, timeline_png
 from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import package_version
 from .collision import METHODS, default_threads, find_contacts
-from .last_contact import last_contacts
 from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
+from .progress import Progress
+
+# Imported where they are used, so that a plain check does not pay for them at start-up: the JUnit
+# writer (xml.etree), a farm chunk's manifest (hashlib), the contact timeline and the backwards run of
+# --last-contact.
 
 TimeRange = Tuple[float, float]
 #: What write_files publishes at a target: text, bytes, or None (remove the file if there is one).
@@ -166,6 +167,8 @@ class OutputTargets:
         return self.out_dir / f"{shot_stem(shot)}.crosscheck.csv"
 
     def manifest(self, shot: str) -> Path:
+        from ..reports.manifest import manifest_name
+
         return self.out_dir / manifest_name(shot_stem(shot))
 
 
@@ -183,6 +186,8 @@ def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str
         if target is not None:
             check_writable_directory(target.resolve().parent)
     if plot_path is not None:
+        from ..reports.timeline import require_matplotlib
+
         require_matplotlib()
     return OutputTargets(out_dir=out_dir, json_path=extra[0], junit_path=extra[1],
                          json_to_stdout=json_path == "-", plot_path=extra[2])
@@ -269,9 +274,9 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     try:
         for (segment_range, segment), segment_plan in zip(planned.segments, planned.plans):
             contacts_before = sum(table.count for table in tables)
-            report = None if bar is None else (
+            report = None if not _shown(bar) else (
                 lambda reached, count, before=contacts_before: bar(reached, before + count))
-            reverse_report = None if reverse_bar is None else (
+            reverse_report = None if not _shown(reverse_bar) else (
                 lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
             tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
                                         reverse_report))
@@ -281,6 +286,14 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
                 shown.close()
     return conclude(shot, name, options, targets, planned, tables, span, counters, messages, say, baseline,
                     started)
+
+
+def _shown(bar) -> bool:
+    """Whether the core should hand its progress to ``bar``: not to a usdksl Progress that is not drawn (in
+    CI, in a pipe), whose calls change nothing anyone sees. Each call takes the GIL from the core's
+    threads, which costs them time when the machine is busy; without one the core still calls back as
+    often to check for Ctrl-C, SIGTERM and --timeout (usdksl.stopping)."""
+    return bar is not None and not (isinstance(bar, Progress) and not bar.enabled)
 
 
 def message_collector(messages: List[Message],
@@ -406,6 +419,8 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     files[targets.override_layer(shot, layer.binary)] = layer.data()
     files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
     if options.time_range is not None:
+        from ..reports.manifest import file_sha256, manifest_text
+
         files[targets.manifest(shot)] = manifest_text(name, file_sha256(shot), options.settings(), span, plan,
                                                       len(segments), package_version())
     stdout = None
@@ -418,10 +433,14 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
         else:
             stdout = json_text
     if targets.junit_path is not None:
+        from ..reports.junit import junit_report
+
         files[targets.junit_path] = junit_report(name, plan, table, clock, known)
     if targets.plot_path is not None:
         if table.last_time is None:
             raise UsdkslUsageError("the contact timeline needs last contacts (CheckOptions(last_contact=True))")
+        from ..reports.timeline import timeline_png
+
         files[targets.plot_path] = timeline_png(table, clock, span, name, known)
     return files, stdout
 
@@ -518,6 +537,8 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
     table = result.face_contacts(segment.meshes)
     if not options.last_contact:
         return table
+    from .last_contact import last_contacts
+
     last = last_contacts(segment.meshes, plan.pairs, table, segment_range, options.method, options.tolerance,
                          options.thickness, progress=reverse_progress, threads=options.threads)
     if say is not None and last.missing_in_reverse:

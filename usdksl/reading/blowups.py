@@ -25,6 +25,8 @@ from typing import List, Sequence
 
 import numpy as np
 
+from ..unmasked import median
+
 #: A vertex whose motion between two samples, beyond its mesh's common motion, exceeds this many
 #: times the mesh's size (median bounding-box diagonal) is reported as a blow-up.
 BLOWUP_SIZE_FACTOR = 10.0
@@ -58,8 +60,15 @@ class Blowup:
 
 def mesh_size(points: np.ndarray) -> float:
     """Median over samples of the bounding-box diagonal of float[K, N, 3] points (scene units)."""
-    diagonals = np.linalg.norm(points.max(axis=1) - points.min(axis=1), axis=1)
-    return float(np.median(diagonals))
+    diagonals = np.empty(points.shape[0], dtype=np.float64)
+    samples_per_block = max(1, BLOWUP_BLOCK_VALUES // max(1, 3 * points.shape[1]))
+    for first in range(0, points.shape[0], samples_per_block):
+        # [k, 3, N] copies: numpy reduces a contiguous row of N values many times faster than the
+        # stride-3 column of [k, N, 3]; minimum and maximum are exact either way
+        coordinates = np.ascontiguousarray(points[first:first + samples_per_block].transpose(0, 2, 1))
+        extent = coordinates.max(axis=2) - coordinates.min(axis=2)
+        diagonals[first:first + samples_per_block] = np.linalg.norm(extent, axis=1)
+    return float(median(diagonals))
 
 
 def find_blowups(prim: str, times: np.ndarray, points: np.ndarray) -> List[Blowup]:
@@ -78,7 +87,7 @@ def find_blowups(prim: str, times: np.ndarray, points: np.ndarray) -> List[Blowu
         if suspect.size == 0:
             continue
         steps = steps[suspect]
-        excess = np.linalg.norm(steps - np.median(steps, axis=1, keepdims=True), axis=2)
+        excess = np.linalg.norm(steps - median(steps, axis=1, keepdims=True), axis=2)
         for row, vertex in zip(*np.nonzero(excess > threshold)):
             k = suspect[row]
             found.append(Blowup(prim=prim, vertex=int(vertex), time_before=float(times[first + k]),

@@ -35,6 +35,7 @@ import numpy as np
 from pxr import Tf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError, UsdkslUsageError
+from ..unmasked import distinct_sorted
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
 from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
                      unmeshed_solid_kind, _window, load_mesh,  # noqa: F401
@@ -290,7 +291,7 @@ def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: In
                                file=file)
     warnings.extend(layer_rates.rescaled_layer_warnings(
         stage, [prim for source in sources for prim in source.motion_prims()], file))
-    shot_times = np.unique(np.concatenate([mesh.times for mesh in meshes]))
+    shot_times = distinct_sorted(np.concatenate([mesh.times for mesh in meshes]))
     return Shot(path=file, meshes=meshes, times=shot_times, metadata=metadata, stage=stage,
                 warnings=warnings, unchecked=unchecked)
 
@@ -301,13 +302,13 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
     prototype mesh, each with ``sample_times()`` and ``load()``. Geometry read past without a check
     (nested instancers, solid non-meshes) goes to ``unchecked``, each with a line in ``warnings``.
     Raises UsdkslInputError when there is nothing to load."""
-    from . import instancing, skinning   # they build on this module
+    from . import instancing   # it builds on this module
 
     unchecked = unchecked if unchecked is not None else []
     in_prototypes: List[Tuple[str, str]] = []     # (kind, path) of solid non-meshes in instanced prototypes
     try:
         prims = mesh_prims(stage, include)
-        skinned = skinning.find_skinned_meshes(stage)
+        skinned = _skinned_meshes(stage)
         sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
         sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings,
                                                      skinned, unchecked, in_prototypes)
@@ -320,6 +321,24 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
         what = "no UsdGeom.Mesh prims" if include is None else "no UsdGeom.Mesh prims match the selection"
         raise UsdkslInputError(f"{what} on the stage", file=file)
     return sources
+
+
+#: The schema UsdSkel poses meshes under (UsdSkel.Root), named so that a stage can be searched for it before
+#: pxr.UsdSkel is imported: most caches have no skeleton, and that import costs about 8 ms.
+SKEL_ROOT_SCHEMA = "SkelRoot"
+
+
+def _skinned_meshes(stage: Usd.Stage) -> dict:
+    """:func:`usdksl.reading.skinning.find_skinned_meshes`, or {} when no prim it would visit is a SkelRoot
+    (then UsdSkel is not imported). A USD that cannot name the schema's type asks UsdSkel itself."""
+    skel_root = Usd.SchemaRegistry.GetTypeFromSchemaTypeName(SKEL_ROOT_SCHEMA)
+    if not skel_root.isUnknown:
+        predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)   # what find_skinned_meshes visits
+        if not any(prim.IsA(skel_root) for prim in Usd.PrimRange.Stage(stage, predicate)):
+            return {}
+    from . import skinning   # it builds on this module
+
+    return skinning.find_skinned_meshes(stage)
 
 
 def _source_sample_times(sources: Sequence, file: str) -> List[np.ndarray]:

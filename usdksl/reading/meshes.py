@@ -16,6 +16,7 @@ import numpy as np
 from pxr import Sdf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError
+from ..unmasked import distinct_sorted
 from .triangulate import fan_triangulate
 
 STATIC = "static"
@@ -129,6 +130,22 @@ def xform_sample_times(prim: Usd.Prim) -> List[float]:
     return sorted(times)
 
 
+def transform_may_vary(prim: Usd.Prim) -> bool:
+    """Whether the local-to-world transform of ``prim`` can differ between two times: an xformOp of the
+    prim or of an ancestor (up to a resetXformStack) has more than one time sample (or value clips).
+    An op with a single time sample holds that value at every time, so it moves nothing."""
+    current = prim
+    while current and not current.IsPseudoRoot():
+        xformable = UsdGeom.Xformable(current)
+        if xformable:
+            if xformable.TransformMightBeTimeVarying():
+                return True
+            if xformable.GetResetXformStack():
+                break
+        current = current.GetParent()
+    return False
+
+
 def mesh_sample_times(prim: Usd.Prim) -> np.ndarray:
     """Union of the ``points`` samples and the xform chain samples of a mesh (may be empty)."""
     times = set(UsdGeom.Mesh(prim).GetPointsAttr().GetTimeSamples())
@@ -143,7 +160,7 @@ def _window(times: np.ndarray, time_range: Optional[Tuple[float, float]]) -> np.
     start, end = time_range
     inside = times[(times > start) & (times < end)]
     ends = [start] if end == start else [start, end]
-    return np.unique(np.concatenate([np.array(ends, dtype=np.float64), inside]))
+    return distinct_sorted(np.concatenate([np.array(ends, dtype=np.float64), inside]))
 
 
 def _topology_sample_times(mesh: UsdGeom.Mesh) -> List[float]:
@@ -430,9 +447,9 @@ def load_mesh(prim: Usd.Prim, times: np.ndarray, file: str = "",
     times = np.asarray(times, dtype=np.float64)
     topology = read_topology(prim, times, file)
 
-    xform_animated = bool(xform_sample_times(prim))
     points_animated = points_attr.GetNumTimeSamples() > 1
-    fixed_matrix = None if xform_animated else matrices.local_to_world(prim, topology.first_time)
+    # a transform that cannot vary is the same matrix at every sample: computed once, applied in blocks
+    fixed_matrix = None if transform_may_vary(prim) else matrices.local_to_world(prim, topology.first_time)
 
     points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float64)
     if fixed_matrix is not None:

@@ -61,6 +61,8 @@ from typing import Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from ..unmasked import distinct_sorted
+
 CONTACT_COLOR = (1.0, 0.1, 0.1)
 CLEAN_COLOR = (0.6, 0.6, 0.6)
 
@@ -119,7 +121,7 @@ def face_first_contact_times(table, mesh_index: int, face_count: int) -> np.ndar
 def touched_meshes(table, mesh_index: int) -> np.ndarray:
     """Indices of meshes sharing a contact row with ``mesh_index`` (itself for self contacts)."""
     other = np.concatenate([table.mesh_b[table.mesh_a == mesh_index], table.mesh_a[table.mesh_b == mesh_index]])
-    return np.unique(other)
+    return distinct_sorted(other)
 
 
 @dataclass
@@ -258,9 +260,9 @@ def color_sample_times(face_times: np.ndarray, start: float) -> List[float]:
     """Times of the colour index samples of one mesh (module docstring): ``start``, then each distinct first
     contact after it, or, past MAX_EXACT_COLOR_SAMPLES of them, the whole time codes at or after them."""
     touched = face_times[~np.isnan(face_times)]
-    later = np.unique(touched[touched > start])
+    later = distinct_sorted(touched[touched > start])
     if later.size > MAX_EXACT_COLOR_SAMPLES:
-        later = np.unique(np.maximum(np.ceil(later), start))
+        later = distinct_sorted(np.maximum(np.ceil(later), start))
         later = later[later > start]
     return [float(start)] + later.tolist()
 

@@ -10,7 +10,6 @@ the task was run again) cannot write anything twice.
 
 from __future__ import annotations
 
-import glob
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,8 +26,6 @@ from ..reports.override import shot_stem
 from ..stopping import deferred_stops
 from .batch_progress import BatchProgress
 
-#: Characters that make a shot argument a pattern to expand (a quoted glob the shell left alone).
-GLOB_CHARACTERS = "*?["
 
 
 @dataclass(frozen=True)
@@ -62,16 +59,6 @@ class ShotOutcome:
         if self.result is None:
             return f"usdksl: error: {self.error}"
         return self.result.line
-
-
-def expand_shots(arguments: Sequence[str]) -> List[str]:
-    """Shot arguments with quoted globs expanded (sorted); an argument that is a file, or a pattern that
-    matches nothing, is kept as it is (it is then reported as a missing file)."""
-    shots: List[str] = []
-    for argument in arguments:
-        matches = sorted(glob.glob(argument)) if any(c in argument for c in GLOB_CHARACTERS) else []
-        shots.extend(matches if matches and not os.path.isfile(argument) else [argument])
-    return list(dict.fromkeys(shots))
 
 
 def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str] = None,

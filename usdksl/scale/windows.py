@@ -41,6 +41,7 @@ from ..errors import UsdkslInputError, UsdkslUsageError
 from ..reading.loader import shot_sample_times
 from ..reading.scope import include_predicate
 from ..reports.manifest import checked_pairs
+from ..unmasked import distinct_sorted
 from .batch import ShotJob, ShotOutcome, checked_outcome
 from .merge import merge_parts
 
@@ -65,7 +66,7 @@ def plan_windows(sample_times: Sequence[np.ndarray], time_range: Optional[TimeRa
     animated = [np.asarray(times, dtype=np.float64) for times in sample_times if len(times)]
     if count < 2 or not animated:
         return []
-    union = np.unique(np.concatenate(animated))
+    union = distinct_sorted(np.concatenate(animated))
     shared = reduce(np.intersect1d, animated)
     if time_range is None:
         start, end = float(union[0]), float(union[-1])
@@ -74,7 +75,7 @@ def plan_windows(sample_times: Sequence[np.ndarray], time_range: Optional[TimeRa
     else:
         start, end = float(time_range[0]), float(time_range[1])
     # the sample grid of one run over [start, end]: both ends and every sample between them
-    grid = np.unique(np.concatenate([[start, end], union[(union > start) & (union < end)]]))
+    grid = distinct_sorted(np.concatenate([[start, end], union[(union > start) & (union < end)]]))
     intervals = grid.size - 1
     count = min(count, intervals // MIN_SAMPLES_PER_WINDOW)
     if count < 2:
