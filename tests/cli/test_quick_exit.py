@@ -5,6 +5,7 @@ work."""
 
 import subprocess
 import sys
+import tempfile
 
 import pytest
 
@@ -26,8 +27,14 @@ except SystemExit as done:
 """
 
 
+#: Where the child runs: not the checkout, whose usdksl/ (without cli/, which only an install maps into
+#: the package) would shadow the installed package for ``python -c`` and ``python -m``.
+OUTSIDE_THE_CHECKOUT = tempfile.gettempdir()
+
+
 def _end(*args):
-    return subprocess.run([sys.executable, "-c", ENDING, *args], capture_output=True, text=True)
+    return subprocess.run([sys.executable, "-c", ENDING, *args], capture_output=True, text=True,
+                          cwd=OUTSIDE_THE_CHECKOUT)
 
 
 @pytest.mark.parametrize("code, status", [("0", 0), ("1", 1), ("3", 3), ("130", 130), ("none", 0), ("-1", 255)])
@@ -55,7 +62,7 @@ def test_a_profiled_run_gets_the_normal_exit_so_the_profile_is_written(tmp_path)
     script, report = tmp_path / "ending.py", tmp_path / "run.prof"
     script.write_text(ENDING)
     completed = subprocess.run([sys.executable, "-m", "cProfile", "-o", str(report), str(script), "2"],
-                               capture_output=True, text=True)
+                               capture_output=True, text=True, cwd=OUTSIDE_THE_CHECKOUT)
     assert completed.returncode == 0   # cProfile's own way: it swallows the script's SystemExit
     assert completed.stdout == "printed, not flushed normal exit atexit"
     assert report.is_file() and report.stat().st_size > 0
