@@ -184,6 +184,11 @@ public:
         directions_chosen_ = true;
         choose_separating_directions(thickness_, corner_error_, max_abs_);
         search_direction_count_ = direction_count_;
+        for (int k = 0; k < 3; ++k) {
+            rates_.w[k] = displacement_[pairs_.w_plus][k] - displacement_[pairs_.w_minus][k];
+            rates_.e1[k] = displacement_[pairs_.e1_plus][k] - displacement_[pairs_.e1_minus][k];
+            rates_.e2[k] = displacement_[pairs_.e2_plus][k] - displacement_[pairs_.e2_minus][k];
+        }
     }
 
     /// Directions that each isolate one parameter near the box: the rows of
@@ -196,18 +201,15 @@ public:
     /// whole thickness cube (DirectionBound::Cube), so they exclude nothing
     /// the world axes accept: what a search accepts stays the same whatever
     /// the motion (a still pair gets none of them), only found sooner.
+    /// Appended after the search's own directions (ensure_directions first).
     void add_box_directions(const ParameterBox& box) {
-        direction_count_ = search_direction_count_;
         const double t = 0.5 * (box.t_lo + box.t_hi);
         const double u = 0.5 * (box.u_lo + box.u_hi);
         const double v = 0.5 * (box.v_lo + box.v_hi);
         const TermsAtTime at = terms_at(t);
         Vec3 along_t, along_u, along_v;
         for (int k = 0; k < 3; ++k) {
-            const double w_rate = displacement_[pairs_.w_plus][k] - displacement_[pairs_.w_minus][k];
-            const double e1_rate = displacement_[pairs_.e1_plus][k] - displacement_[pairs_.e1_minus][k];
-            const double e2_rate = displacement_[pairs_.e2_plus][k] - displacement_[pairs_.e2_minus][k];
-            along_t[k] = w_rate - u * e1_rate - v * e2_rate;
+            along_t[k] = rates_.w[k] - u * rates_.e1[k] - v * rates_.e2[k];
             along_u[k] = at.e1[k];
             along_v[k] = at.e2[k];
         }
@@ -587,6 +589,9 @@ private:
     int direction_count_ = 0;
     /// Directions chosen once per search (the first of directions_).
     int search_direction_count_ = 0;
+    /// Rates of W, E1 and E2 per step (constant: the points move linearly),
+    /// set with the search's directions.
+    TermsAtTime rates_;
     double start_[4][3];
     double end_[4][3];
     double displacement_[4][3];
