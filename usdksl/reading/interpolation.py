@@ -39,19 +39,16 @@ def find_spline_motion(stage, mesh_paths: Iterable[str]) -> Optional[Tuple[str, 
     an xformOp of the mesh or of an ancestor up to a resetXformStack, or the points attribute."""
     from pxr import UsdGeom
 
+    from .meshes import transform_chain
+
     seen = set()
     for mesh_path in mesh_paths:
         prim = stage.GetPrimAtPath(str(mesh_path))
         candidates = [UsdGeom.Mesh(prim).GetPointsAttr()] if prim else []
-        probe = prim
-        while probe and not probe.IsPseudoRoot():
-            xformable = UsdGeom.Xformable(probe)
-            if xformable and probe.GetPath() not in seen:
-                seen.add(probe.GetPath())
+        for xformable in transform_chain(prim):
+            if xformable.GetPath() not in seen:
+                seen.add(xformable.GetPath())
                 candidates.extend(op.GetAttr() for op in xformable.GetOrderedXformOps())
-            if xformable and xformable.GetResetXformStack():
-                break
-            probe = probe.GetParent()
         for attribute in candidates:
             if attribute and hasattr(attribute, "HasSpline") and attribute.HasSpline():
                 time, how = _knot_summary(attribute.GetSpline())

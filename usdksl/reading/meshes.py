@@ -10,7 +10,7 @@ meshes from the same pieces.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 from pxr import Sdf, Usd, UsdGeom
@@ -115,18 +115,25 @@ class Shot:
 
 # --------------------------------------------------------------------------- time samples
 
-def xform_sample_times(prim: Usd.Prim) -> List[float]:
-    """xformOp sample times of ``prim`` and of its ancestors, up to a resetXformStack."""
-    times = set()
+def transform_chain(prim: Usd.Prim) -> Iterator[UsdGeom.Xformable]:
+    """The xformables whose ops make up the local-to-world transform of ``prim``: ``prim`` and its
+    ancestors, nearest first, up to and including the first that resets the xform stack."""
     current = prim
     while current and not current.IsPseudoRoot():
         xformable = UsdGeom.Xformable(current)
         if xformable:
-            authored_value(xformable.GetXformOpOrderAttr(), None)   # unreadable: USD would drop the transform
-            times.update(xformable.GetTimeSamples())
+            yield xformable
             if xformable.GetResetXformStack():
-                break
+                return
         current = current.GetParent()
+
+
+def xform_sample_times(prim: Usd.Prim) -> List[float]:
+    """xformOp sample times of ``prim`` and of its ancestors, up to a resetXformStack."""
+    times = set()
+    for xformable in transform_chain(prim):
+        authored_value(xformable.GetXformOpOrderAttr(), None)   # unreadable: USD would drop the transform
+        times.update(xformable.GetTimeSamples())
     return sorted(times)
 
 
@@ -134,16 +141,7 @@ def transform_may_vary(prim: Usd.Prim) -> bool:
     """Whether the local-to-world transform of ``prim`` can differ between two times: an xformOp of the
     prim or of an ancestor (up to a resetXformStack) has more than one time sample (or value clips).
     An op with a single time sample holds that value at every time, so it moves nothing."""
-    current = prim
-    while current and not current.IsPseudoRoot():
-        xformable = UsdGeom.Xformable(current)
-        if xformable:
-            if xformable.TransformMightBeTimeVarying():
-                return True
-            if xformable.GetResetXformStack():
-                break
-        current = current.GetParent()
-    return False
+    return any(xformable.TransformMightBeTimeVarying() for xformable in transform_chain(prim))
 
 
 def mesh_sample_times(prim: Usd.Prim) -> np.ndarray:
