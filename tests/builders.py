@@ -171,6 +171,12 @@ def triangle_grid(nx, ny, size=1.0):
     return verts, tris
 
 
+def rotation(axis, angle):
+    """3x3 rotation by ``angle`` (radians) about the unit vector ``axis`` (Rodrigues' formula)."""
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * (k @ k)
+
+
 def animated(times, frames, triangles, faces=None):
     """A Mesh from its sample times and points per sample; one face per triangle unless ``faces``."""
     times = np.asarray(times, dtype=np.float64)

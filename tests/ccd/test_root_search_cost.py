@@ -19,10 +19,16 @@ boxes before: 38 for the resting edges, 46 for the sliding vertex, 66 for the
 turning face).
 """
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from usdksl import ccd
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from builders import rotation  # noqa: E402
 
 TOLERANCE = 1e-6
 COUNT = 400
@@ -38,11 +44,6 @@ def _dyadic(values):
     return np.round(np.asarray(values) / COORDINATE_STEP) * COORDINATE_STEP
 
 
-def _rotation(axis, angle):
-    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
-
-
 def _turning_face_crossings(rng, count):
     """Vertex-face queries: the face turns by 0.5 to 1.5 rad about a random
     axis while its corners move linearly, and the vertex passes through it at
@@ -52,7 +53,7 @@ def _turning_face_crossings(rng, count):
     for _ in range(count):
         start = _dyadic(rng.uniform(-1.0, 1.0, (3, 3)))
         axis = rng.normal(size=3)
-        turned = start @ _rotation(axis / np.linalg.norm(axis), rng.uniform(0.5, 1.5)).T
+        turned = start @ rotation(axis / np.linalg.norm(axis), rng.uniform(0.5, 1.5)).T
         end = _dyadic(turned + rng.uniform(-0.5, 0.5, 3))
         first, second = rng.integers(1, 8, 2) / 16.0
         weights = np.array([first, second, 1.0 - first - second])

@@ -18,7 +18,7 @@ import pytest
 from usdksl.checking.collision import find_contacts
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from builders import animated, triangle_grid  # noqa: E402
+from builders import animated, rotation, triangle_grid  # noqa: E402
 
 #: Seeds of the scenes; each scene draws its own meshes, samples and thickness from its seed.
 SEEDS = tuple(range(30))
@@ -87,11 +87,8 @@ def spinning_box(rng, times: np.ndarray):
     swing = rng.uniform(0.0, 0.3)
     frames = []
     for t in times:
-        angle = spin * t
-        k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-        rotation = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * (k @ k)
         centre = start + velocity * t + swing * np.array([np.sin(0.2 * t), np.cos(0.15 * t) - 1.0, 0.0])
-        frames.append(corners @ rotation.T + centre)
+        frames.append(corners @ rotation(axis, spin * t).T + centre)
     return animated(times, frames, np.array(faces, dtype=np.int32))
 
 
