@@ -5,7 +5,7 @@
 #include "usdksl/broad_phase/sample_times.hpp"
 
 #include <memory>
-#include <unordered_map>
+#include "usdksl/flat_hash_map.hpp"
 
 namespace usdksl {
 namespace {
@@ -84,7 +84,7 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
                                        });
     }
     // End (time code) of the last step each triangle pair was tested on.
-    std::unordered_map<uint64_t, double> tested_until;
+    FlatHashMap<uint64_t, double> tested_until;
     for (size_t i = 0; i + 1 < times.size(); ++i) {
         const double t0 = times[i], t1 = times[i + 1];
         if (stop && i > 0 && stop->stops_before(t0)) break;

@@ -14,7 +14,7 @@
 
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
+#include "usdksl/flat_hash_map.hpp"
 #include <utility>
 #include <vector>
 
@@ -72,7 +72,7 @@ private:
         int32_t mesh_a;
         int32_t mesh_b;
         bool self;
-        std::unordered_map<uint64_t, int32_t> index;  // (a << 32 | b) -> entry
+        FlatHashMap<uint64_t, int32_t> index;  // (a << 32 | b) -> entry
     };
     /// Ordered widest first: 48 bytes, and a front holds tens of entries per triangle.
     struct Entry {
@@ -188,7 +188,7 @@ private:
     std::vector<double> margin_;  // per list: contact distance of its two meshes
     /// tested_until of leaf pairs whose entry was removed from the front, so a
     /// pair that returns does not run its narrow phase on the same steps again.
-    std::unordered_map<uint64_t, double> leaf_tested_until_;
+    FlatHashMap<uint64_t, double> leaf_tested_until_;
     ChunkedVector<ClearanceRun, 11> clearance_runs_;
     std::vector<SharedVertexPair> shared_vertex_pairs_;
     std::vector<int32_t> free_clearance_runs_;

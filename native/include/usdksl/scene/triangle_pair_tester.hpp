@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <unordered_map>
+#include "usdksl/flat_hash_map.hpp"
 #include <vector>
 
 namespace usdksl {
@@ -126,7 +126,7 @@ private:
     CCDSettings settings_;
     Counters& counters_;
     std::vector<int64_t> triangle_offset_;
-    std::unordered_map<uint64_t, size_t> found_;
+    FlatHashMap<uint64_t, size_t> found_;
     std::vector<Contact> contacts_;
     /// Repeated vertex-face queries of this tester's narrow phase (a tester
     /// is used by one thread at a time).
