@@ -3,9 +3,9 @@
 #include "aabb_tree.hpp"
 
 #include "usdksl/broad_phase/sample_times.hpp"
+#include "usdksl/flat_hash_map.hpp"
 
 #include <memory>
-#include "usdksl/flat_hash_map.hpp"
 
 namespace usdksl {
 namespace {

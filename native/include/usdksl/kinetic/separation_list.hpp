@@ -3,6 +3,7 @@
 /// @brief Kinetic separation lists (paper section 5): the BVTT front of every
 ///        checked mesh pair (or mesh against itself), kept valid step by step.
 
+#include "usdksl/flat_hash_map.hpp"
 #include "usdksl/kinetic/chunked_vector.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
 #include "usdksl/narrow_phase/pair_clearance.hpp"
@@ -14,7 +15,6 @@
 
 #include <cstdint>
 #include <memory>
-#include "usdksl/flat_hash_map.hpp"
 #include <utility>
 #include <vector>
 

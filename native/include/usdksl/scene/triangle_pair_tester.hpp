@@ -3,6 +3,7 @@
 /// @brief Runs the shared narrow phase on triangle pairs over their flightplan
 ///        steps and keeps the first contact of each pair.
 
+#include "usdksl/flat_hash_map.hpp"
 #include "usdksl/ccd/ccd_settings.hpp"
 #include "usdksl/ccd/vertex_face_memo.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
@@ -14,7 +15,6 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include "usdksl/flat_hash_map.hpp"
 #include <vector>
 
 namespace usdksl {
