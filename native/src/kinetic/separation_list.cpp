@@ -14,6 +14,8 @@ namespace {
 /// whole self-overlapping tree or cover many leaf pairs.
 constexpr int64_t kProgressEveryWork = 1 << 8;
 constexpr double kNothingTested = -1e300;
+/// Wake step of a free entry slot.
+constexpr int32_t kNeverWakes = std::numeric_limits<int32_t>::max();
 
 /// Slack (fraction of a step) by which the times at which two moving boxes
 /// overlap may miss each other and still count as meeting: covers rounding
@@ -267,7 +269,9 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     } else {
         id = static_cast<int32_t>(entries_.size());
         entries_.emplace_back();
+        wake_step_.push_back(0);
     }
+    wake_step_[id] = static_cast<int32_t>(step_index_) + 1;  // up to date for the step it is created in
     worked();
     List& list = lists_[list_id];
     Entry& e = entries_[id];
@@ -324,6 +328,7 @@ void KineticSeparationLists::remove_entry(int32_t id, bool keep_tested) {
     }
     release_clearance_run(e);
     e.alive = false;
+    wake_step_[id] = kNeverWakes;
     free_entries_.push_back(id);
 }
 
@@ -395,6 +400,9 @@ void KineticSeparationLists::cover(Entry& e) {
         e.inert = true;
         release_clearance_run(e);
     }
+    // Nothing to do for it before the first step that ends past what it covered.
+    e.quiet_until = static_cast<int32_t>(
+        std::upper_bound(times_.begin() + step_index_ + 1, times_.end(), e.tested_until) - times_.begin() - 1);
     worked();
 }
 
@@ -411,8 +419,12 @@ bool KineticSeparationLists::clear_at_begin(Entry& e) {
     const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
     const std::array<Vec3, 3> a = triangle_corners(trees_[mesh_a]->begin_points(), ids_a);
     const std::array<Vec3, 3> b = triangle_corners(trees_[mesh_b]->begin_points(), ids_b);
+    double magnitude = 0.0;
+    for (int32_t v : ids_a) magnitude = std::max(magnitude, scene_.plans[mesh_a].vertex_magnitude(v));
+    for (int32_t v : ids_b) magnitude = std::max(magnitude, scene_.plans[mesh_b].vertex_magnitude(v));
     ClearanceRun& run = clearance_run(e);
-    run.clearance.start(ids_a, a, ids_b, b, mesh_a == mesh_b, margin_of(list), tester_.settings().tolerance);
+    run.clearance.start(ids_a, a, ids_b, b, mesh_a == mesh_b, margin_of(list), tester_.settings().tolerance,
+                        magnitude);
     // The static test also reports triangles that pierce each other without
     // any primitive pair within reach: only the plane proof rules that out.
     if (!run.clearance.holds_at(a, b) || !run.clearance.separated_by_plane()) {
@@ -639,8 +651,10 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
         } else {
             // Entries created during this step are up to date already.
             for (int32_t id = 0; id < static_cast<int32_t>(entries_.size()); ++id) {
-                const Entry& e = entries_[id];
-                if (e.alive && e.step < step_index_ && e.quiet_until <= step_index_) update(id);
+                if (wake_step_[id] > step_index_) continue;
+                update(id);
+                const Entry& e = entries_[id];  // or whatever entry took its place meanwhile
+                if (e.alive) wake_step_[id] = std::max(e.step + 1, e.quiet_until);
             }
         }
         step_shared_vertex_pairs();

@@ -24,12 +24,6 @@ double plane_gap(const Vec3& normal, const std::array<Vec3, 3>& a, const std::ar
     return bottom_b - top_a;
 }
 
-double largest_coordinate(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
-    double m = 0.0;
-    for (int i = 0; i < 3; ++i) m = std::max({m, a[i].cwiseAbs().maxCoeff(), b[i].cwiseAbs().maxCoeff()});
-    return m;
-}
-
 } // namespace
 
 double clearance_size_fraction(double tolerance) {
@@ -51,8 +45,36 @@ double pair_box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
     return (hi - lo).norm();
 }
 
+double in_plane_gap(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+    // Along any unit axis, the gap between the two triangles' projections
+    // bounds the distance of any point of one from any point of the other.
+    double best = -std::numeric_limits<double>::infinity();
+    const auto project = [](const Vec3& axis, const std::array<Vec3, 3>& t, double& low, double& high) {
+        low = high = axis.dot(t[0]);
+        for (int i = 1; i < 3; ++i) {
+            const double h = axis.dot(t[i]);
+            low = std::min(low, h);
+            high = std::max(high, h);
+        }
+    };
+    for (const std::array<Vec3, 3>* t : {&a, &b}) {
+        const std::array<Vec3, 3>& corner = *t;
+        const Vec3 normal = (corner[1] - corner[0]).cross(corner[2] - corner[0]);
+        for (int i = 0; i < 3; ++i) {
+            const Vec3 axis = normal.cross(corner[(i + 1) % 3] - corner[i]);  // in the plane, across the edge
+            const double length = axis.norm();
+            if (!(length > 0.0)) continue;
+            double low_a, high_a, low_b, high_b;
+            project(axis, a, low_a, high_a);
+            project(axis, b, low_b, high_b);
+            best = std::max(best, std::max(low_b - high_a, low_a - high_b) / length);
+        }
+    }
+    return best;
+}
+
 double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
-                                 const std::array<Vec3, 3>& b, bool same_mesh) {
+                                 const std::array<Vec3, 3>& b, bool same_mesh, double within) {
     // Every tested vertex-face and edge-edge distance is the least of some
     // vertex-to-edge distances and one interior candidate; a vertex-to-edge
     // distance serves up to three of those pairs, so it is measured once, when
@@ -71,6 +93,8 @@ double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3
         return squared;
     };
     double squared = std::numeric_limits<double>::infinity();
+    // A pair found within `within` answers the caller's question at once.
+    const double within_squared = within > 0.0 ? within * within : -1.0;
     for (int i = 0; i < 3; ++i) {
         if (!(same_mesh && holds_vertex(ids_b, ids_a[i]))) {
             squared = std::min({squared, vertex_to_edge(0, i, 0), vertex_to_edge(0, i, 1), vertex_to_edge(0, i, 2),
@@ -80,6 +104,7 @@ double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3
             squared = std::min({squared, vertex_to_edge(1, i, 0), vertex_to_edge(1, i, 1), vertex_to_edge(1, i, 2),
                                 point_triangle_interior_distance_squared(b[i], a[0], a[1], a[2])});
         }
+        if (squared <= within_squared) return std::sqrt(squared);
     }
     for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3;
@@ -90,12 +115,14 @@ double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3
                                 vertex_to_edge(1, j1, i),
                                 segment_segment_interior_distance_squared(a[i], a[i1], b[j], b[j1])});
         }
+        if (squared <= within_squared) return std::sqrt(squared);
     }
     return std::sqrt(squared);
 }
 
 void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
-                          const std::array<Vec3, 3>& b, bool same_mesh, double contact_distance, double tolerance) {
+                          const std::array<Vec3, 3>& b, bool same_mesh, double contact_distance, double tolerance,
+                          double magnitude) {
     ids_a_ = ids_a;
     ids_b_ = ids_b;
     same_mesh_ = same_mesh;
@@ -106,10 +133,12 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
     diameter_ = pair_box_diagonal(a, b);
     contact_distance_ = contact_distance;
     size_fraction_ = clearance_size_fraction(tolerance);
-    magnitude_ = largest_coordinate(a, b);
+    magnitude_ = magnitude;
     drift_ = 0.0;
     distance_known_ = false;
+    bound_known_ = false;
     plane_holds_ = false;
+    start_plane_gap_ = -std::numeric_limits<double>::infinity();
     bool shared = false;
     reference_ = 0;
     for (int i = 2; i >= 0; --i) {
@@ -133,18 +162,27 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
                 }
             }
         }
-        plane_holds_ = best > plane_reach(a, b);
+        start_plane_gap_ = best;
+        plane_holds_ = best > plane_reach();
     }
 }
 
-void PairClearance::measure_distance() {
+double PairClearance::separating_gap() const {
+    return std::max(start_plane_gap_, in_plane_gap({start_[0], start_[1], start_[2]}, {start_[3], start_[4], start_[5]}));
+}
+
+void PairClearance::measure_distance(double within) {
     distance_ = tested_primitive_distance(ids_a_, {start_[0], start_[1], start_[2]}, ids_b_,
-                                          {start_[3], start_[4], start_[5]}, same_mesh_);
+                                          {start_[3], start_[4], start_[5]}, same_mesh_, within);
     distance_known_ = true;
 }
 
-double PairClearance::plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {
-    return clearance_reach(contact_distance_, size_fraction_, pair_box_diagonal(a, b), 0.0, magnitude_);
+double PairClearance::plane_reach() const {
+    // Box diagonals do not change with a translation: the six vertices' box
+    // now is that of their start positions moved by their displacements
+    // relative to the reference vertex, none longer than the drift.
+    return clearance_reach(contact_distance_, size_fraction_, diameter_ + PAIR_CLEARANCE_BOX_GROWTH * drift_, 0.0,
+                           magnitude_);
 }
 
 bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
@@ -157,13 +195,23 @@ bool PairClearance::holds_at(const std::array<Vec3, 3>& a, const std::array<Vec3
         squared_b = std::max(squared_b, (b[i] - start_[3 + i] - moved_reference).squaredNorm());
     }
     drift_ = std::max(drift_, std::sqrt(squared_a) + std::sqrt(squared_b));
-    magnitude_ = std::max(magnitude_, largest_coordinate(a, b));
-    plane_holds_ = plane_holds_ && plane_gap(normal_, a, b) > plane_reach(a, b);
+    plane_holds_ = plane_holds_ && plane_gap(normal_, a, b) > plane_reach();
     if (plane_holds_) return true;
-    // The drift proof: distance_ - drift_ > reach only weakens as drift_ and
-    // magnitude_ grow, so asking it now answers for every step since the start.
-    if (!distance_known_) measure_distance();
-    return distance_ - drift_ > clearance_reach(contact_distance_, size_fraction_, diameter_, drift_, magnitude_);
+    // The drift proof: distance_ - drift_ > reach only weakens as drift_
+    // grows, so asking it now answers for every step since the start. A
+    // lower bound of the distance serves as well while it is enough.
+    const double reach = clearance_reach(contact_distance_, size_fraction_, diameter_, drift_, magnitude_);
+    if (!distance_known_) {
+        if (!bound_known_) {
+            distance_ = separating_gap();
+            bound_known_ = true;
+        }
+        if (distance_ - drift_ > reach) return true;
+        // A distance found within drift_ + reach fails the proof now, and
+        // for good: drift_ and the reach only grow.
+        measure_distance(drift_ + reach);
+    }
+    return distance_ - drift_ > reach;
 }
 
 } // namespace usdksl

@@ -220,7 +220,10 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         positions_end = end;
         bool cleared = false;
         const auto start_certificate = [&]() {
-            clearance.start(ids_a, a0, ids_b, b0, mesh_a == mesh_b, contact_distance, settings_.tolerance);
+            double magnitude = 0.0;  // no coordinate of the six vertices exceeds it
+            for (int i = 0; i < 6; ++i) magnitude = std::max(magnitude, plans[i]->vertex_magnitude(vertex[i]));
+            clearance.start(ids_a, a0, ids_b, b0, mesh_a == mesh_b, contact_distance, settings_.tolerance,
+                            magnitude);
             certified = fresh = true;
         };
         if (use_clearance && !certified && wait == 0) start_certificate();

@@ -20,6 +20,9 @@ using trials::Positions;
 
 Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
 
+/// Magnitude bound for positions within this many scene units of the origin.
+constexpr double kMagnitude = 10.0;
+
 } // namespace
 
 TEST(PairClearance, ACardSlidingOverAnotherStaysClearedByTheSeparatingPlane) {
@@ -28,7 +31,7 @@ TEST(PairClearance, ACardSlidingOverAnotherStaysClearedByTheSeparatingPlane) {
     const Positions card{Vec3(-1, -1, 0.05), Vec3(0, -1, 0.05), Vec3(-1, 0, 0.05)};
     const double thickness = 0.002;
     PairClearance clearance;
-    clearance.start(ids_a, floor, ids_b, card, false, thickness, DEFAULT_CCD_TOLERANCE);
+    clearance.start(ids_a, floor, ids_b, card, false, thickness, DEFAULT_CCD_TOLERANCE, kMagnitude);
     // Each step slides the card 0.3 along the floor: 6 times its height above it.
     for (int step = 1; step <= 8; ++step) {
         EXPECT_TRUE(clearance.holds_at(floor, shifted(card, Vec3(0.3 * step, 0.1 * step, 0)))) << "step " << step;
@@ -46,7 +49,8 @@ TEST(PairClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
     const auto start = [&](trials::TrialRandom& random, const CCDSettings& settings, int) {
         const trials::TrialPair pair{{0, 1, 2}, {3, 4, 5}, {random.point(1.0), random.point(1.0), random.point(1.0)},
                                       shifted({random.point(1.0), random.point(1.0), random.point(1.0)}, Vec3(0, 0, 0.5 + random.unit()))};
-        clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b, false, settings.thickness, settings.tolerance);
+        clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b, false, settings.thickness, settings.tolerance,
+                        kMagnitude);
         velocity_a = random.point(0.1);
         velocity_b = random.point(0.1) - Vec3(0, 0, 0.1);
         return pair;
@@ -72,6 +76,6 @@ TEST(PairClearance, AVertexOffTheCornerAlongTheDiagonalIsNotCleared) {
     settings.thickness = thickness;
     ASSERT_TRUE(triangle_pair_ccd({{0, 1, 2}, a, a}, {{3, 4, 5}, b, b}, false, settings).hit);
     PairClearance clearance;
-    clearance.start({0, 1, 2}, a, {3, 4, 5}, b, false, thickness, settings.tolerance);
+    clearance.start({0, 1, 2}, a, {3, 4, 5}, b, false, thickness, settings.tolerance, kMagnitude);
     EXPECT_FALSE(clearance.holds_at(a, b));
 }

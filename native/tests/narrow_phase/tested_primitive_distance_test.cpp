@@ -78,3 +78,57 @@ TEST(TestedPrimitiveDistance, EqualsEveryTestedPairMeasuredOnItsOwn) {
     }
     EXPECT_EQ(cases, 4000);
 }
+
+TEST(TestedPrimitiveDistance, StopsEarlyOnlyWithinTheDistanceAsked) {
+    std::mt19937 random(20261124);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto point = [&]() -> Vec3 {
+        const double x = unit(random), y = unit(random), z = unit(random);
+        return Vec3(x, y, z);
+    };
+    const Triangle ids_a{0, 1, 2}, ids_b{3, 4, 5};
+    int stopped = 0, measured = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const Positions a{point(), point(), point()};
+        const Vec3 offset = 1.5 * point();
+        const Positions b{point() + offset, point() + offset, point() + offset};
+        const double smallest = tested_primitive_distance(ids_a, a, ids_b, b, false);
+        const double within = 0.5 * (unit(random) + 1.0);
+        const double answer = tested_primitive_distance(ids_a, a, ids_b, b, false, within);
+        EXPECT_EQ(answer <= within, smallest <= within) << "trial " << trial;
+        EXPECT_GE(answer, smallest) << "trial " << trial;
+        if (smallest > within) {
+            EXPECT_EQ(answer, smallest) << "trial " << trial;
+            ++measured;
+        } else {
+            stopped += answer > smallest;
+        }
+    }
+    // Both outcomes occur, and stopping early does happen.
+    EXPECT_GT(measured, 200);
+    EXPECT_GT(stopped, 50);
+}
+
+TEST(InPlaneGap, NeverExceedsTheDistanceOfTheTriangles) {
+    std::mt19937 random(20261125);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const Triangle ids_a{0, 1, 2}, ids_b{3, 4, 5};
+    int separated = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        // Mostly two triangles of one plane (a flat sheet), some tilted out of it.
+        const double tilt = trial % 4 == 0 ? 0.3 : 0.0;
+        const auto point = [&]() -> Vec3 {
+            const double x = 2.0 * unit(random), y = 2.0 * unit(random);
+            return Vec3(x, y, tilt * unit(random));
+        };
+        const Positions a{point(), point(), point()};
+        const Positions b{point(), point(), point()};
+        // Untouched by the narrow phase's exclusions (no shared vertex), this
+        // is the distance between the two triangles (when they do not cross).
+        const double distance = tested_primitive_distance(ids_a, a, ids_b, b, false);
+        const double gap = in_plane_gap(a, b);
+        EXPECT_LE(gap, distance * (1.0 + 1e-12) + 1e-12) << "trial " << trial;
+        separated += gap > 0.0;
+    }
+    EXPECT_GT(separated, 200);
+}

@@ -81,7 +81,8 @@ private:
         int32_t a = -1, b = -1;      // tree nodes (mesh_a's tree, mesh_b's tree)
         int32_t fa = -1, fb = -1;    // BVTT father, -1 for the root pair
         int32_t step = -1;           // step in which the entry was created or last brought up to date
-        int32_t quiet_until = 0;     // boxes apart: no step before this one can bring them together
+        int32_t quiet_until = 0;     // no step before this one can find work for it: boxes apart, or
+                                     // an overlapping leaf pair covered ahead up to that step
         int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1
         bool overlapping_leaf = false;
         bool inert = false;          // leaf pair whose triangle pair is settled
@@ -185,6 +186,11 @@ private:
     std::vector<List> lists_;
     ChunkedVector<Entry, 14> entries_;
     std::vector<int32_t> free_entries_;
+    /// Per entry slot: the first step whose update may find work for it
+    /// (the step after the one it was last brought up to date in, or its
+    /// quiet_until when later; never for a free slot). The steps scan this
+    /// array, not the entries, most of which sleep or lie free.
+    std::vector<int32_t> wake_step_;
     std::vector<double> margin_;  // per list: contact distance of its two meshes
     /// tested_until of leaf pairs whose entry was removed from the front, so a
     /// pair that returns does not run its narrow phase on the same steps again.

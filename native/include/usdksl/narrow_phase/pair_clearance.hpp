@@ -39,15 +39,32 @@ constexpr double PAIR_CLEARANCE_ROUNDING = 1e-9;
 ///        fraction: a drift d can widen the six vertices' box diagonal by 2 d.
 constexpr double PAIR_CLEARANCE_DRIFT_GROWTH = 2.0;
 
+/// @brief How much the six vertices' box diagonal can grow, in multiples of
+///        the largest displacement of a vertex relative to the reference
+///        vertex: each axis's extent by twice that, so the diagonal by
+///        2 sqrt(3), rounded up.
+constexpr double PAIR_CLEARANCE_BOX_GROWTH = 3.5;
+
 /// @brief Most steps a pair waits, after a clearance certificate failed at
 ///        once, before it tries another.
 constexpr int32_t CLEARANCE_MAX_BACKOFF_STEPS = 16;
 
 /// @brief Smallest distance (scene units) between the primitive pairs of two
 ///        triangles that the narrow phase tests: vertex-face and edge-edge,
-///        without those sharing a vertex when both are of one mesh.
+///        without those sharing a vertex when both are of one mesh. Given
+///        `within` (scene units, > 0), it may stop at the first pair it
+///        finds no farther than that and return that pair's distance: the
+///        answer is then <= within whenever the smallest is, and the
+///        smallest whenever it is not.
 double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
-                                 const std::array<Vec3, 3>& b, bool same_mesh);
+                                 const std::array<Vec3, 3>& b, bool same_mesh, double within = 0.0);
+
+/// @brief Widest gap (scene units) between the projections of two triangles
+///        on an axis across one of their edges in its triangle's plane: a
+///        lower bound of the distance between any point of one and any
+///        point of the other (which parts triangles of one flat sheet); -inf
+///        when both are degenerate.
+double in_plane_gap(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
 /// @brief Fraction of the pair's size a certified gap must exceed beyond the
 ///        contact reach, for a CCD tolerance (interval fraction).
@@ -90,8 +107,12 @@ double pair_box_diagonal(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
 class PairClearance {
 public:
     /// @brief Starts at the positions of both triangles at one instant.
+    ///        `magnitude`: scene units that no coordinate of the six vertices
+    ///        exceeds while the certificate is asked (such as the largest
+    ///        their flightplans reach), for the rounding allowance.
     void start(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
-               const std::array<Vec3, 3>& b, bool same_mesh, double contact_distance, double tolerance);
+               const std::array<Vec3, 3>& b, bool same_mesh, double contact_distance, double tolerance,
+               double magnitude);
 
     /// @brief Extends the certificate to positions at a later breakpoint (with
     ///        every earlier breakpoint since the start given before); true
@@ -105,23 +126,32 @@ public:
 
 private:
     /// Contact distance plus the narrow phase's margin for the six vertices'
-    /// size and rounding, at positions a and b.
-    double plane_reach(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const;
+    /// size (their box diagonal at the start, grown by what the drift so far
+    /// can add to it) and rounding.
+    double plane_reach() const;
 
     /// Smallest tested primitive distance at the start, measured only when
-    /// the plane no longer clears the pair (most pairs the plane clears never need it).
-    void measure_distance();
+    /// the plane no longer clears the pair (most pairs the plane clears never
+    /// need it); stops early at a pair within `within` (see tested_primitive_distance).
+    void measure_distance(double within);
+
+    /// A lower bound (scene units; 0 or less when it proves nothing) of
+    /// every tested primitive distance at the start, at a fraction of the
+    /// cost: the wider of start's plane gap and in_plane_gap().
+    double separating_gap() const;
 
     Triangle ids_a_{}, ids_b_{};
     bool same_mesh_ = false;
     std::array<Vec3, 6> start_;           // A's then B's vertices at the start
     int reference_ = 0;                   // A's vertex that displacements are measured against
     bool distance_known_ = false;
-    double distance_ = 0.0;               // smallest tested primitive distance at the start
+    bool bound_known_ = false;            // distance_ holds separating_gap() until the distance is known
+    double distance_ = 0.0;               // smallest tested primitive distance at the start (or a lower bound)
+    double start_plane_gap_ = 0.0;        // widest plane gap at the start (-inf without a plane)
     double diameter_ = 0.0;               // at least that of the six vertices at the start
     double contact_distance_ = 0.0;       // scene units
     double size_fraction_ = 0.0;
-    double magnitude_ = 0.0;              // largest absolute coordinate seen
+    double magnitude_ = 0.0;              // no coordinate exceeds it
     double drift_ = 0.0;
     Vec3 normal_ = Vec3::Zero();  // unit; B lies above A along it while plane_holds_
     bool plane_holds_ = false;
