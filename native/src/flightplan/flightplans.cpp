@@ -153,15 +153,6 @@ int64_t Flightplans::search_segment(int32_t v, double t) const {
     return static_cast<int64_t>(it - key_times_) - 1;
 }
 
-Vec3 Flightplans::position_in_segment(int32_t v, int64_t k, double t) const {
-    const Eigen::Map<const Vec3> p0(&key_points_[3 * k]);
-    if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return p0;
-    const Eigen::Map<const Vec3> p1(&key_points_[3 * (k + 1)]);
-    const double w = (t - key_times_[k]) / (key_times_[k + 1] - key_times_[k]);
-    // Same arithmetic as coord(), so positions and single coordinates agree bit for bit.
-    return Vec3(p0[0] + w * (p1[0] - p0[0]), p0[1] + w * (p1[1] - p0[1]), p0[2] + w * (p1[2] - p0[2]));
-}
-
 double Flightplans::next_breakpoint(int32_t v, double t) const {
     const auto first = key_times_ + offsets_[v];
     const auto last = key_times_ + offsets_[v + 1];

@@ -153,11 +153,18 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
     const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
     const Flightplans* plans[6];
     int32_t vertex[6];
-    int64_t segment[6];
+    // Each vertex's segment with its breakpoint times, kept as the walk goes
+    // so that a step in which a vertex keeps its segment reads nothing of it.
+    int64_t segment[6], last[6];
+    double segment_time[6], next_time[6];  // next_time: +inf after the last breakpoint
     for (int i = 0; i < 6; ++i) {
-        plans[i] = &scene_.plans[i < 3 ? mesh_a : mesh_b];
+        const Flightplans& p = scene_.plans[i < 3 ? mesh_a : mesh_b];
+        plans[i] = &p;
         vertex[i] = i < 3 ? ids_a[i] : ids_b[i - 3];
-        segment[i] = plans[i]->segment_of(vertex[i], from);
+        segment[i] = p.segment_of(vertex[i], from);
+        last[i] = p.key_end(vertex[i]) - 1;
+        segment_time[i] = p.key_time(segment[i]);
+        next_time[i] = segment[i] < last[i] ? p.key_time(segment[i] + 1) : infinity;
     }
     // A clearance certificate skips steps on which the pair provably stays
     // out of reach; one that fails at once backs off for a few steps, so a
@@ -187,15 +194,16 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         // The step containing t, as step_containing() finds it.
         double begin = -infinity, end = infinity;
         for (int i = 0; i < 6; ++i) {
-            const Flightplans& p = *plans[i];
-            segment[i] = p.advance_segment(vertex[i], segment[i], t);
-            const int64_t k = segment[i];
-            const double kt = p.key_time(k);
-            if (kt <= t) {
-                begin = std::max(begin, kt);
-                if (k + 1 < p.key_end(vertex[i])) end = std::min(end, p.key_time(k + 1));
+            while (next_time[i] <= t) {  // Flightplans::advance_segment
+                segment_time[i] = next_time[i];
+                ++segment[i];
+                next_time[i] = segment[i] < last[i] ? plans[i]->key_time(segment[i] + 1) : infinity;
+            }
+            if (segment_time[i] <= t) {
+                begin = std::max(begin, segment_time[i]);
+                end = std::min(end, next_time[i]);
             } else {
-                end = std::min(end, kt);
+                end = std::min(end, segment_time[i]);
             }
         }
         if (!std::isfinite(end)) return done({infinity, false});
@@ -210,8 +218,11 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         bool raw_positions = true;
         for (int i = 0; i < 6; ++i) {
             const Flightplans& p = *plans[i];
-            const int64_t at_end = p.advance_segment(vertex[i], segment[i], end);
-            raw_positions = raw_positions && p.key_time(segment[i]) == begin && p.key_time(at_end) == end;
+            // No breakpoint of the vertex lies inside the step: its segment
+            // holds the end too, or the next one begins there.
+            const bool breaks_at_end = next_time[i] == end;
+            const int64_t at_end = breaks_at_end ? segment[i] + 1 : segment[i];
+            raw_positions = raw_positions && segment_time[i] == begin && breaks_at_end;
             Vec3& start = i < 3 ? a0[i] : b0[i - 3];
             Vec3& finish = i < 3 ? a1[i] : b1[i - 3];
             if (!starts_at_last_end) start = p.position_in_segment(vertex[i], segment[i], begin);

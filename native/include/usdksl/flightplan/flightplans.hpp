@@ -65,7 +65,14 @@ public:
 
     /// @brief Position of vertex v at time code t, given the segment k that
     ///        contains t (as segment_of(v, t) returns it); bit-identical to position().
-    Vec3 position_in_segment(int32_t v, int64_t k, double t) const;
+    Vec3 position_in_segment(int32_t v, int64_t k, double t) const {
+        const double* p0 = &key_points_[3 * k];
+        if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return Vec3(p0[0], p0[1], p0[2]);
+        const double* p1 = p0 + 3;
+        const double w = (t - key_times_[k]) / (key_times_[k + 1] - key_times_[k]);
+        // Same arithmetic as coord_in_segment(), so positions and single coordinates agree bit for bit.
+        return Vec3(p0[0] + w * (p1[0] - p0[0]), p0[1] + w * (p1[1] - p0[1]), p0[2] + w * (p1[2] - p0[2]));
+    }
 
     /// @brief Moves segment index k of vertex v forward to the segment that
     ///        contains time code t (as segment_of(v, t) would return it), for
