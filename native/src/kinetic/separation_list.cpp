@@ -14,6 +14,8 @@ namespace {
 /// whole self-overlapping tree or cover many leaf pairs.
 constexpr int64_t kProgressEveryWork = 1 << 8;
 constexpr double kNothingTested = -1e300;
+/// Entry slots ahead of the one being brought up to date whose memory is asked for meanwhile.
+constexpr int32_t kEntryPrefetchDistance = 16;
 /// Wake step of a free entry slot.
 constexpr int32_t kNeverWakes = std::numeric_limits<int32_t>::max();
 
@@ -147,12 +149,16 @@ int KineticSeparationLists::children_of(const List& list, int32_t a, int32_t b, 
 
 double KineticSeparationLists::margin_of(const List& list) const { return margin_[&list - lists_.data()]; }
 
-bool KineticSeparationLists::meet(const List& list, int32_t a, int32_t b) {
+bool KineticSeparationLists::meet(const List& list, int32_t a, int32_t b, int64_t* quiet) {
     if (list.self && a == b) return true;
     ++counters_.bv_tests;
     const StepBox& ba = trees_[list.mesh_a]->box(a);
     const StepBox& bb = trees_[list.mesh_b]->box(b);
     const double margin = margin_of(list);
+    const auto separated = [&]() {
+        if (quiet) *quiet = quiet_until(list, ba, bb, margin);
+        return false;
+    };
     // Each of the six gaps (max(a) - min(b) and max(b) - min(a) per axis,
     // grown by the margin) is linear over the step; the boxes meet while all
     // are >= 0, on an interval of step fractions.
@@ -164,14 +170,14 @@ bool KineticSeparationLists::meet(const List& list, int32_t a, int32_t b) {
             const double g0 = upper.hi[0][axis] - lower.lo[0][axis] + margin;
             const double g1 = upper.hi[1][axis] - lower.lo[1][axis] + margin;
             if (g0 < 0.0) {
-                if (g1 < 0.0) return false;
+                if (g1 < 0.0) return separated();
                 first = std::max(first, g0 / (g0 - g1));
             } else if (g1 < 0.0) {
                 last = std::min(last, g0 / (g0 - g1));
             }
         }
     }
-    return first <= last + STEP_MEETING_SLACK;
+    return first <= last + STEP_MEETING_SLACK || separated();
 }
 
 bool KineticSeparationLists::apart(const List& list, int32_t a, int32_t b, double fraction) const {
@@ -227,10 +233,8 @@ void KineticSeparationLists::measure_travel() {
     }
 }
 
-int64_t KineticSeparationLists::quiet_until(const List& list, int32_t a, int32_t b) const {
-    const StepBox& ba = trees_[list.mesh_a]->box(a);
-    const StepBox& bb = trees_[list.mesh_b]->box(b);
-    const double margin = margin_of(list);
+int64_t KineticSeparationLists::quiet_until(const List& list, const StepBox& ba, const StepBox& bb,
+                                            double margin) const {
     double gap = 0.0;  // widest separation along one axis at the step's end
     for (int axis = 0; axis < 3; ++axis) {
         gap = std::max({gap, bb.lo[1][axis] - ba.hi[1][axis] - margin, ba.lo[1][axis] - bb.hi[1][axis] - margin});
@@ -341,8 +345,13 @@ void KineticSeparationLists::expand(int32_t list_id, int32_t a, int32_t b) {
     for (int i = 0; i < count; ++i) {
         const NodePair c = children[i];
         if (list.self && c.a == c.b && trees_[list.mesh_a]->topology().is_leaf(c.a)) continue;
-        if (!meet(list, c.a, c.b)) {
-            create_entry(list_id, c.a, c.b, &father, false);
+        int64_t quiet;
+        if (!meet(list, c.a, c.b, &quiet)) {
+            const int32_t id = create_entry(list_id, c.a, c.b, &father, false);
+            if (id >= 0) {
+                entries_[id].quiet_until = static_cast<int32_t>(quiet);
+                wake_step_[id] = std::max(wake_step_[id], static_cast<int32_t>(quiet));
+            }
         } else if (both_leaves(list, c.a, c.b)) {
             create_entry(list_id, c.a, c.b, &father, true);
         } else {
@@ -598,8 +607,9 @@ void KineticSeparationLists::update(int32_t id) {
         create_entry(list_id, top.a, top.b, has_up ? &up : nullptr, false);
         return;
     }
-    if (!meet(list, e.a, e.b)) {
-        e.quiet_until = static_cast<int32_t>(quiet_until(list, e.a, e.b));
+    int64_t quiet;
+    if (!meet(list, e.a, e.b, &quiet)) {
+        e.quiet_until = static_cast<int32_t>(quiet);
         return;
     }
     ++counters_.bv_overlap_events;
@@ -650,8 +660,13 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
             initializing_ = false;
         } else {
             // Entries created during this step are up to date already.
-            for (int32_t id = 0; id < static_cast<int32_t>(entries_.size()); ++id) {
+            const int32_t slots = static_cast<int32_t>(entries_.size());
+            for (int32_t id = 0; id < slots; ++id) {
                 if (wake_step_[id] > step_index_) continue;
+#if defined(__GNUC__)
+                // Bringing an entry up to date mostly waits for its memory: ask for one further on meanwhile.
+                if (id + kEntryPrefetchDistance < slots) __builtin_prefetch(&entries_[id + kEntryPrefetchDistance]);
+#endif
                 update(id);
                 const Entry& e = entries_[id];  // or whatever entry took its place meanwhile
                 if (e.alive) wake_step_[id] = std::max(e.step + 1, e.quiet_until);

@@ -116,16 +116,18 @@ private:
     /// Scene units two boxes (already grown by their rounding margins) grow
     /// by before they count as overlapping: the list's contact distance.
     double margin_of(const List& list) const;
-    /// True when the boxes of (a, b) meet at some time of the current step.
-    bool meet(const List& list, int32_t a, int32_t b);
+    /// True when the boxes of (a, b) meet at some time of the current step;
+    /// otherwise, given `quiet`, sets it to their quiet_until().
+    bool meet(const List& list, int32_t a, int32_t b, int64_t* quiet = nullptr);
     /// True when the boxes of (a, b), grown by the list's contact distance,
     /// stay apart by more than `fraction` of the smaller one's extent for the
     /// whole current step.
     bool apart(const List& list, int32_t a, int32_t b, double fraction) const;
-    /// First step after the current one at which the boxes of (a, b), apart
-    /// at the current step's end, may meet: their gap then, against the most
-    /// any vertex of their meshes can move per step (travel_).
-    int64_t quiet_until(const List& list, int32_t a, int32_t b) const;
+    /// First step after the current one at which two boxes of the list
+    /// (a node of mesh_a's tree, one of mesh_b's), apart at the current
+    /// step's end, may meet: their gap then, against the most any vertex of
+    /// their meshes can move per step (travel_).
+    int64_t quiet_until(const List& list, const StepBox& ba, const StepBox& bb, double margin) const;
     /// Fills travel_ for the steps in times_.
     void measure_travel();
 
