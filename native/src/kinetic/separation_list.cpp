@@ -156,7 +156,7 @@ bool KineticSeparationLists::meet(const List& list, int32_t a, int32_t b, int64_
     const StepBox& bb = trees_[list.mesh_b]->box(b);
     const double margin = margin_of(list);
     const auto separated = [&]() {
-        if (quiet) *quiet = quiet_until(list, ba, bb, margin);
+        if (quiet) *quiet = quiet_until(list, a, b, ba, bb, margin);
         return false;
     };
     // Each of the six gaps (max(a) - min(b) and max(b) - min(a) per axis,
@@ -233,20 +233,27 @@ void KineticSeparationLists::measure_travel() {
     }
 }
 
-int64_t KineticSeparationLists::quiet_until(const List& list, const StepBox& ba, const StepBox& bb,
-                                            double margin) const {
+int64_t KineticSeparationLists::quiet_until(const List& list, int32_t a, int32_t b, const StepBox& ba,
+                                            const StepBox& bb, double margin) const {
     double gap = 0.0;  // widest separation along one axis at the step's end
     for (int axis = 0; axis < 3; ++axis) {
         gap = std::max({gap, bb.lo[1][axis] - ba.hi[1][axis] - margin, ba.lo[1][axis] - bb.hi[1][axis] - margin});
     }
-    const int64_t next = step_index_ + 1, steps = static_cast<int64_t>(times_.size()) - 1;
+    const int64_t steps = static_cast<int64_t>(times_.size()) - 1;
+    int64_t next = step_index_ + 1;
     if (!(gap > 0.0) || next >= steps) return next;
-    if (travel_[list.mesh_a][next + 1] - travel_[list.mesh_a][next] + travel_[list.mesh_b][next + 1] -
-            travel_[list.mesh_b][next] >= gap) {
-        return next;  // most often the next step may close the gap already
+    // Each box side moves no more than the vertices under its node: the gap
+    // cannot close before the two nodes' travel since this step's end
+    // exceeds it. Over the steps the trees recorded, each node's own...
+    const StepBoxTree& tree_a = *trees_[list.mesh_a];
+    const StepBoxTree& tree_b = *trees_[list.mesh_b];
+    const int64_t recorded_end = std::min(steps, next + NODE_TRAVEL_AHEAD_STEPS);
+    for (; next < recorded_end; ++next) {
+        gap -= tree_a.travel(a, next) + tree_b.travel(b, next);
+        if (!(gap > 0.0)) return next;
     }
-    // Each box side moves no more than its mesh's vertices: the gap cannot
-    // close before the two meshes' travel since this step's end exceeds it.
+    if (next >= steps) return steps;
+    // ... and beyond, their meshes' fastest vertex.
     const std::vector<double>& ta = travel_[list.mesh_a];
     const std::vector<double>& tb = travel_[list.mesh_b];
     const auto closes_by = [&](int64_t end) {  // travel over steps next..end-1
@@ -637,12 +644,18 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
         step_index_ = static_cast<int64_t>(k);
         step_begin_ = times_[k];
         step_end_ = times_[k + 1];
+        // The trees know their nodes' travel up to NODE_TRAVEL_AHEAD_STEPS steps after this one.
+        const size_t recorded_end = std::min(times_.size() - 1, k + 1 + NODE_TRAVEL_AHEAD_STEPS);
         for (const auto& tree : trees_) {
             if (tree) {
                 tree->fit(step_begin_, step_end_);
+                for (size_t s = std::max(k + 1, travel_recorded_); s < recorded_end; ++s) {
+                    tree->record_travel(static_cast<int64_t>(s), times_[s], times_[s + 1]);
+                }
                 ++counters_.kinetic_tree_events;
             }
         }
+        travel_recorded_ = std::max(travel_recorded_, recorded_end);
         if (k == 0) {
             initializing_ = true;
             for (int32_t id = 0; id < static_cast<int32_t>(lists_.size()); ++id) {

@@ -99,4 +99,60 @@ void StepBoxTree::fit(double t0, double t1) {
     }
 }
 
+void StepBoxTree::record_travel(int64_t step, double t0, double t1) {
+    if (still_) return;
+    const Flightplans& plans = *plans_;
+    const int32_t n = plans.vertex_count();
+    const int32_t node_count = topology_.node_count();
+    if (node_travel_.empty()) {
+        node_travel_.assign(static_cast<size_t>(node_count) * NODE_TRAVEL_AHEAD_STEPS, 0.0f);
+        ahead_points_.resize(static_cast<size_t>(n) * 3);
+    }
+    if (ahead_segment_.empty()) {
+        ahead_segment_.resize(static_cast<size_t>(n));
+        for (int32_t v = 0; v < n; ++v) ahead_segment_[static_cast<size_t>(v)] = plans.key_begin(v);
+    }
+    // Its own cursors: the fitted step's lie behind.
+    const auto position = [&](int32_t v, double t, double* out) {
+        int64_t& k = ahead_segment_[static_cast<size_t>(v)];
+        k = plans.advance_segment(v, k, t);
+        for (int axis = 0; axis < 3; ++axis) out[axis] = plans.coord_in_segment(v, k, axis, t);
+    };
+    if (t0 != ahead_end_) {
+        for (int32_t v = 0; v < n; ++v) position(v, t0, &ahead_points_[3 * static_cast<size_t>(v)]);
+    }
+    // Per vertex, the most it moves along one axis (linear over the step: end minus begin).
+    std::vector<double> moved(static_cast<size_t>(n));
+    for (int32_t v = 0; v < n; ++v) {
+        double at_end[3];
+        position(v, t1, at_end);
+        double* at_begin = &ahead_points_[3 * static_cast<size_t>(v)];
+        double most = 0.0;
+        for (int axis = 0; axis < 3; ++axis) {
+            most = std::max(most, std::abs(at_end[axis] - at_begin[axis]));
+            at_begin[axis] = at_end[axis];
+        }
+        moved[static_cast<size_t>(v)] = most;
+    }
+    ahead_end_ = t1;
+    const size_t slot = static_cast<size_t>(step % NODE_TRAVEL_AHEAD_STEPS);
+    const auto stored = [&](int32_t node) -> float& {
+        return node_travel_[static_cast<size_t>(node) * NODE_TRAVEL_AHEAD_STEPS + slot];
+    };
+    // Children come after their parent, so a reverse sweep is bottom-up.
+    for (int32_t node = node_count - 1; node >= 0; --node) {
+        double most;
+        if (topology_.is_leaf(node)) {
+            const Triangle& tri = (*triangles_)[topology_.triangle[node]];
+            most = std::max({moved[tri[0]], moved[tri[1]], moved[tri[2]]}) * (1.0 + NODE_TRAVEL_ROUNDING);
+            // Single precision rounds to nearest: step up past the double.
+            float f = static_cast<float>(most);
+            if (static_cast<double>(f) < most) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+            stored(node) = f;
+        } else {
+            stored(node) = std::max(stored(topology_.left[node]), stored(topology_.right[node]));
+        }
+    }
+}
+
 } // namespace usdksl

@@ -40,7 +40,7 @@ constexpr int64_t FRONT_COARSEN_EVERY_STEPS = 4;
 /// @brief Steps beyond the current one that an overlapping leaf pair's narrow
 ///        phase covers in the same call while its clearance certificate
 ///        clears them: one call per step would cost more than the steps.
-constexpr int64_t LEAF_COVER_AHEAD_STEPS = 7;
+constexpr int64_t LEAF_COVER_AHEAD_STEPS = 31;
 
 /// @brief Relative allowance by which the per-step travel bounds are
 ///        inflated: covers the rounding of the displacements and their sums.
@@ -123,11 +123,13 @@ private:
     /// stay apart by more than `fraction` of the smaller one's extent for the
     /// whole current step.
     bool apart(const List& list, int32_t a, int32_t b, double fraction) const;
-    /// First step after the current one at which two boxes of the list
-    /// (a node of mesh_a's tree, one of mesh_b's), apart at the current
-    /// step's end, may meet: their gap then, against the most any vertex of
-    /// their meshes can move per step (travel_).
-    int64_t quiet_until(const List& list, const StepBox& ba, const StepBox& bb, double margin) const;
+    /// First step after the current one at which the boxes ba and bb of
+    /// nodes a (mesh_a's tree) and b (mesh_b's), apart at the current step's
+    /// end, may meet: their gap then, against the most any vertex under
+    /// either node moves per step (the trees' recorded travel), and beyond
+    /// the recorded steps any vertex of their meshes (travel_).
+    int64_t quiet_until(const List& list, int32_t a, int32_t b, const StepBox& ba, const StepBox& bb,
+                        double margin) const;
     /// Fills travel_ for the steps in times_.
     void measure_travel();
 
@@ -178,6 +180,7 @@ private:
     /// Per used mesh: travel_[m][k] bounds (scene units) how far any of its
     /// vertices moves along any axis during steps 0..k-1 together.
     std::vector<std::vector<double>> travel_;
+    size_t travel_recorded_ = 0;  // the trees recorded the travel of every step before this one
     double step_begin_ = 0.0, step_end_ = 0.0;  // current step (time codes)
     int64_t step_index_ = 0;
     bool initializing_ = false;

@@ -8,6 +8,7 @@
 #include "usdksl/flightplan/flightplans.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace usdksl {
@@ -16,6 +17,16 @@ namespace usdksl {
 ///        coordinate of the vertices under a node: interpolating positions and
 ///        box sides inside a step rounds by a few ulps.
 constexpr double STEP_BOX_ROUNDING_PER_LEVEL = 1e-12;
+
+/// @brief Steps after the fitted one for which the tree knows how far each
+///        node's vertices move (StepBoxTree::travel): how long a pair of
+///        boxes apart can be left alone is judged on its own nodes' motion
+///        over these steps, on its meshes' fastest vertex beyond.
+constexpr int64_t NODE_TRAVEL_AHEAD_STEPS = 8;
+
+/// @brief Relative allowance by which a node's travel is inflated (as the
+///        per-mesh travel is, and for storing it in single precision).
+constexpr double NODE_TRAVEL_ROUNDING = 1e-6;
 
 /// @brief A box at both ends of a step (scene units), grown by its node's
 ///        rounding margin. Between the ends each
@@ -57,6 +68,21 @@ public:
     ///        (scene units, before the rounding margin).
     double extent(int32_t node) const { return extent_[node]; }
 
+    /// @brief Records step number `step` = [t0, t1] (time codes; steps come
+    ///        in order, every vertex linear on each) for travel(): the most
+    ///        any vertex under each node moves along one axis during it.
+    ///        A tree keeps NODE_TRAVEL_AHEAD_STEPS steps: recording step s
+    ///        forgets step s - NODE_TRAVEL_AHEAD_STEPS.
+    void record_travel(int64_t step, double t0, double t1);
+
+    /// @brief Scene units (an upper bound) that no vertex under `node` moves
+    ///        along any axis during recorded step `step` (one of the last
+    ///        NODE_TRAVEL_AHEAD_STEPS recorded).
+    double travel(int32_t node, int64_t step) const {
+        return still_ ? 0.0 : node_travel_[static_cast<size_t>(node) * NODE_TRAVEL_AHEAD_STEPS +
+                                           static_cast<size_t>(step % NODE_TRAVEL_AHEAD_STEPS)];
+    }
+
 private:
     const Flightplans* plans_;
     const std::vector<Triangle>* triangles_;
@@ -68,6 +94,12 @@ private:
     /// step; the end of one step is the begin of the next.
     std::vector<double> begin_points_, end_points_;
     double fitted_end_;
+    /// record_travel(): positions at the end of the last recorded step, and
+    /// per node (NODE_TRAVEL_AHEAD_STEPS slots each, by step modulo) its travel.
+    std::vector<double> ahead_points_;
+    std::vector<int64_t> ahead_segment_;
+    double ahead_end_ = -std::numeric_limits<double>::infinity();
+    std::vector<float> node_travel_;
     bool still_;  // no vertex ever moves: the first fit holds for every step
     bool fitted_ = false;
 };
