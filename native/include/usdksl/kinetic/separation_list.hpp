@@ -40,7 +40,7 @@ constexpr int64_t FRONT_COARSEN_EVERY_STEPS = 4;
 /// @brief Steps beyond the current one that an overlapping leaf pair's narrow
 ///        phase covers in the same call while its clearance certificate
 ///        clears them: one call per step would cost more than the steps.
-constexpr int64_t LEAF_COVER_AHEAD_STEPS = 31;
+constexpr int64_t LEAF_COVER_AHEAD_STEPS = 15;
 
 /// @brief Relative allowance by which the per-step travel bounds are
 ///        inflated: covers the rounding of the displacements and their sums.
