@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace usdksl {
 namespace {
@@ -71,6 +72,37 @@ double in_plane_gap(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) 
         }
     }
     return best;
+}
+
+bool swept_apart(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
+                 const std::array<Vec3, 3>& b1, double reach) {
+    const auto apart_along = [&](const Vec3& axis) {
+        const double length = axis.norm();
+        if (!(length > 0.0)) return false;
+        double low_a = axis.dot(a0[0]), high_a = low_a, low_b = axis.dot(b0[0]), high_b = low_b;
+        for (int i = 0; i < 3; ++i) {
+            for (const double h : {axis.dot(a0[i]), axis.dot(a1[i])}) {
+                low_a = std::min(low_a, h);
+                high_a = std::max(high_a, h);
+            }
+            for (const double h : {axis.dot(b0[i]), axis.dot(b1[i])}) {
+                low_b = std::min(low_b, h);
+                high_b = std::max(high_b, h);
+            }
+        }
+        return std::max(low_b - high_a, low_a - high_b) > reach * length;
+    };
+    const auto normal = [](const std::array<Vec3, 3>& t) { return Vec3((t[1] - t[0]).cross(t[2] - t[0])); };
+    const Vec3 normal_a = normal(a0), normal_b = normal(b0);
+    if (apart_along(normal_a) || apart_along(normal_b) || apart_along(normal(a1)) || apart_along(normal(b1))) {
+        return true;
+    }
+    for (const auto& [t, n] : {std::pair<const std::array<Vec3, 3>*, const Vec3*>{&a0, &normal_a}, {&b0, &normal_b}}) {
+        for (int i = 0; i < 3; ++i) {
+            if (apart_along(n->cross((*t)[(i + 1) % 3] - (*t)[i]))) return true;
+        }
+    }
+    return false;
 }
 
 double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,

@@ -79,3 +79,37 @@ TEST(PairClearance, AVertexOffTheCornerAlongTheDiagonalIsNotCleared) {
     clearance.start({0, 1, 2}, a, {3, 4, 5}, b, false, thickness, settings.tolerance, kMagnitude);
     EXPECT_FALSE(clearance.holds_at(a, b));
 }
+
+TEST(SweptApart, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
+    // Random pairs moving and deforming over several steps, some coming
+    // close enough to touch; each step is asked on its own.
+    Vec3 velocity_a, velocity_b;
+    double reach_thickness = 0.0, size_fraction = 0.0;
+    trials::TrialPair before;
+    const auto start = [&](trials::TrialRandom& random, const CCDSettings& settings, int) {
+        const trials::TrialPair pair{{0, 1, 2}, {3, 4, 5}, {random.point(1.0), random.point(1.0), random.point(1.0)},
+                                      shifted({random.point(1.0), random.point(1.0), random.point(1.0)}, Vec3(0, 0, 0.5 + random.unit()))};
+        reach_thickness = settings.thickness;
+        size_fraction = clearance_size_fraction(settings.tolerance);
+        velocity_a = random.point(0.1);
+        velocity_b = random.point(0.1) - Vec3(0, 0, 0.1);
+        return pair;
+    };
+    const auto move = [&](trials::TrialRandom& random, const trials::TrialPair& pair) {
+        before = pair;
+        trials::TrialPair next = pair;
+        for (int i = 0; i < 3; ++i) {
+            next.a[i] += velocity_a + random.point(0.03);
+            next.b[i] += velocity_b + random.point(0.03);
+        }
+        return next;
+    };
+    const auto holds = [&](const trials::TrialPair& next) {
+        const double diameter = std::max(pair_box_diagonal(before.a, before.b), pair_box_diagonal(next.a, next.b));
+        return swept_apart(before.a, next.a, before.b, next.b,
+                           clearance_reach(reach_thickness, size_fraction, diameter, 0.0, kMagnitude));
+    };
+    const trials::ClearanceTrialCounts counts = trials::run_clearance_trials(20261124, false, start, move, holds);
+    EXPECT_GT(counts.cleared, 10000);
+    EXPECT_GT(counts.hits, 900);
+}

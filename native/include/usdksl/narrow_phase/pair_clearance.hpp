@@ -66,6 +66,16 @@ double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3
 ///        when both are degenerate.
 double in_plane_gap(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
 
+/// @brief True when two triangles that move linearly over a step (corners
+///        a0, b0 at its begin, a1, b1 at its end) stay more than `reach`
+///        (scene units) apart throughout it, as seen along one axis: either
+///        triangle's normal at either end, or an axis across one of its
+///        edges in its plane at the begin. Along a unit axis, every point of
+///        a moving triangle projects between the least and the most of its
+///        corners' projections at the two ends.
+bool swept_apart(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
+                 const std::array<Vec3, 3>& b1, double reach);
+
 /// @brief Fraction of the pair's size a certified gap must exceed beyond the
 ///        contact reach, for a CCD tolerance (interval fraction).
 double clearance_size_fraction(double tolerance);
