@@ -35,7 +35,7 @@ constexpr double LEAF_HYSTERESIS = 0.25;
 ///        Coarsening the front is never needed to find every contact (a finer
 ///        front finds the same ones), so each step looks at the fathers of
 ///        one entry in this many, spread by entry index.
-constexpr int64_t FRONT_COARSEN_EVERY_STEPS = 4;
+constexpr int64_t FRONT_COARSEN_EVERY_STEPS = 8;
 
 /// @brief Steps beyond the current one that an overlapping leaf pair's narrow
 ///        phase covers in the same call while its clearance certificate
