@@ -238,8 +238,8 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     // test (TrianglePairTester::carry_confirmations); the reference confirms
     // everything afresh, so it stays independent of that shortcut.
     const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
-    const Scene scene(meshes, merge);
     const int32_t threads = resolve_threads(options.threads);
+    const Scene scene(meshes, merge, threads);
     const bool cuttable = cuts_windows(options.method);
     std::unique_ptr<WindowCuts> cuts;
     std::vector<TimeWindow> planned{{options.t_begin, options.t_end}};
@@ -289,7 +289,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     }
     std::unique_ptr<Scene> raw_scene;
     if (options.method != Method::Discrete && std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
-        raw_scene = std::make_unique<Scene>(meshes, kinds);
+        raw_scene = std::make_unique<Scene>(meshes, kinds, threads);
     }
     // The discrete baseline answers at sampled instants; it stays what it is, misses included.
     const bool confirm = options.method != Method::Discrete && raw_scene;

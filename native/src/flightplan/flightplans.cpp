@@ -4,9 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
+#include <utility>
 
 namespace usdksl {
 namespace {
@@ -35,34 +39,24 @@ double sample_magnitude(const MeshAnimation& mesh, int32_t v, int64_t k) {
 
 } // namespace
 
-Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
+/// The breakpoints of one run of consecutive vertices, built on their own
+/// (on one thread) and then appended to the mesh's in vertex order.
+struct Flightplans::VertexRange {
+    std::vector<int64_t> count;  // breakpoints per vertex
+    std::vector<double> key_times;
+    std::vector<double> key_points;
+    std::vector<std::pair<int32_t, double>> deviations;  // vertices whose dropped samples lie off their flightplan
+    double merge_deviation = 0.0;
+    double max_abs_coordinate = 0.0;
+};
+
+void Flightplans::build_range(const MeshAnimation& mesh, bool merge_collinear, int32_t first, int32_t last,
+                              std::vector<double>& vertex_magnitude, VertexRange& range) {
     const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
     const int32_t n = mesh.vertex_count;
-    if (sample_count < 1 || n < 0 ||
-        mesh.points.size() != static_cast<size_t>(sample_count) * static_cast<size_t>(n) * 3) {
-        throw std::invalid_argument("flightplans: points do not match times x vertex_count x 3");
-    }
-    for (int64_t k = 1; k < sample_count; ++k) {
-        if (!(mesh.times[k] > mesh.times[k - 1])) {
-            throw std::invalid_argument("flightplans: sample times must be strictly increasing");
-        }
-    }
-    for (double c : mesh.points) {
-        if (!std::isfinite(c)) throw std::invalid_argument("flightplans: non-finite point coordinate");
-    }
-
-    auto storage = std::make_shared<Storage>();
-    std::vector<int64_t>& offsets = storage->offsets;
-    std::vector<double>& key_times = storage->key_times;
-    std::vector<double>& key_points = storage->key_points;
-    std::vector<double>& vertex_magnitude = storage->vertex_magnitude;
-    offsets.reserve(static_cast<size_t>(n) + 1);
-    offsets.push_back(0);
-    vertex_magnitude.assign(static_cast<size_t>(n), 0.0);
-    std::vector<double>& vertex_deviation = storage->vertex_deviation;
     std::vector<int64_t> kept;
     kept.reserve(static_cast<size_t>(sample_count));
-    for (int32_t v = 0; v < n; ++v) {
+    for (int32_t v = first; v < last; ++v) {
         kept.clear();
         kept.push_back(0);
         double deviation = 0.0;  // of vertex v
@@ -94,11 +88,8 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
             run_magnitude = sample_magnitude(mesh, v, k);
         }
         deviation = std::max(deviation, run_deviation);
-        if (deviation > 0.0) {
-            if (vertex_deviation.empty()) vertex_deviation.assign(static_cast<size_t>(n), 0.0);
-            vertex_deviation[static_cast<size_t>(v)] = deviation;
-        }
-        merge_deviation_ = std::max(merge_deviation_, deviation);
+        if (deviation > 0.0) range.deviations.emplace_back(v, deviation);
+        range.merge_deviation = std::max(range.merge_deviation, deviation);
         // A vertex that never moves keeps a single breakpoint.
         if (merge_collinear && kept.size() == 2) {
             bool still = true;
@@ -110,13 +101,87 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear) {
         }
         for (int64_t k : kept) {
             vertex_magnitude[v] = std::max(vertex_magnitude[v], sample_magnitude(mesh, v, k));
-            key_times.push_back(mesh.times[k]);
+            range.key_times.push_back(mesh.times[k]);
             for (int axis = 0; axis < 3; ++axis) {
-                key_points.push_back(mesh.points[(static_cast<size_t>(k) * n + v) * 3 + axis]);
+                range.key_points.push_back(mesh.points[(static_cast<size_t>(k) * n + v) * 3 + axis]);
             }
         }
-        offsets.push_back(static_cast<int64_t>(key_times.size()));
-        max_abs_coordinate_ = std::max(max_abs_coordinate_, vertex_magnitude[v]);
+        range.count.push_back(static_cast<int64_t>(kept.size()));
+        range.max_abs_coordinate = std::max(range.max_abs_coordinate, vertex_magnitude[v]);
+    }
+}
+
+Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_t threads) {
+    const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
+    const int32_t n = mesh.vertex_count;
+    if (sample_count < 1 || n < 0 ||
+        mesh.points.size() != static_cast<size_t>(sample_count) * static_cast<size_t>(n) * 3) {
+        throw std::invalid_argument("flightplans: points do not match times x vertex_count x 3");
+    }
+    for (int64_t k = 1; k < sample_count; ++k) {
+        if (!(mesh.times[k] > mesh.times[k - 1])) {
+            throw std::invalid_argument("flightplans: sample times must be strictly increasing");
+        }
+    }
+    for (double c : mesh.points) {
+        if (!std::isfinite(c)) throw std::invalid_argument("flightplans: non-finite point coordinate");
+    }
+
+    auto storage = std::make_shared<Storage>();
+    std::vector<double>& vertex_magnitude = storage->vertex_magnitude;
+    vertex_magnitude.assign(static_cast<size_t>(n), 0.0);
+    // Every vertex's flightplan is its own: runs of vertices are built on as
+    // many threads, then joined in vertex order (the same arrays for any count).
+    const int64_t samples_total = sample_count * static_cast<int64_t>(n);
+    const int32_t ranges = static_cast<int32_t>(std::max<int64_t>(
+        1, std::min<int64_t>({static_cast<int64_t>(std::max(threads, 1)), static_cast<int64_t>(n),
+                              samples_total / FLIGHTPLAN_SAMPLES_PER_THREAD})));
+    std::vector<VertexRange> parts(static_cast<size_t>(ranges));
+    const auto range_begin = [&](int32_t r) { return static_cast<int32_t>(static_cast<int64_t>(n) * r / ranges); };
+    {
+        std::vector<std::thread> helpers;
+        std::exception_ptr failure;
+        std::mutex failure_lock;
+        for (int32_t r = 1; r < ranges; ++r) {
+            helpers.emplace_back([&, r]() {
+                try {
+                    build_range(mesh, merge_collinear, range_begin(r), range_begin(r + 1), vertex_magnitude,
+                                parts[static_cast<size_t>(r)]);
+                } catch (...) {
+                    std::lock_guard<std::mutex> lock(failure_lock);
+                    if (!failure) failure = std::current_exception();
+                }
+            });
+        }
+        try {
+            build_range(mesh, merge_collinear, 0, range_begin(1), vertex_magnitude, parts[0]);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(failure_lock);
+            if (!failure) failure = std::current_exception();
+        }
+        for (std::thread& helper : helpers) helper.join();
+        if (failure) std::rethrow_exception(failure);
+    }
+    std::vector<int64_t>& offsets = storage->offsets;
+    std::vector<double>& key_times = storage->key_times;
+    std::vector<double>& key_points = storage->key_points;
+    std::vector<double>& vertex_deviation = storage->vertex_deviation;
+    size_t total = 0;
+    for (const VertexRange& part : parts) total += part.key_times.size();
+    offsets.reserve(static_cast<size_t>(n) + 1);
+    offsets.push_back(0);
+    key_times.reserve(total);
+    key_points.reserve(3 * total);
+    for (const VertexRange& part : parts) {
+        for (int64_t count : part.count) offsets.push_back(offsets.back() + count);
+        key_times.insert(key_times.end(), part.key_times.begin(), part.key_times.end());
+        key_points.insert(key_points.end(), part.key_points.begin(), part.key_points.end());
+        for (const auto& [v, deviation] : part.deviations) {
+            if (vertex_deviation.empty()) vertex_deviation.assign(static_cast<size_t>(n), 0.0);
+            vertex_deviation[static_cast<size_t>(v)] = deviation;
+        }
+        merge_deviation_ = std::max(merge_deviation_, part.merge_deviation);
+        max_abs_coordinate_ = std::max(max_abs_coordinate_, part.max_abs_coordinate);
     }
     merged_ = key_times.size() < static_cast<size_t>(n) * static_cast<size_t>(sample_count);
     segment_hint_.assign(offsets.begin(), offsets.end() - 1);

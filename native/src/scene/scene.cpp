@@ -13,10 +13,10 @@ std::vector<FlightplanKind> uniform_kinds(size_t count, bool merge_collinear) {
 
 } // namespace
 
-Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear)
-    : Scene(meshes_in, uniform_kinds(meshes_in.size(), merge_collinear)) {}
+Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear, int32_t threads)
+    : Scene(meshes_in, uniform_kinds(meshes_in.size(), merge_collinear), threads) {}
 
-Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<FlightplanKind>& kinds)
+Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<FlightplanKind>& kinds, int32_t threads)
     : meshes(meshes_in) {
     if (kinds.size() != meshes.size()) throw std::invalid_argument("scene: one flightplan kind per mesh");
     plans.reserve(meshes.size());
@@ -25,7 +25,7 @@ Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<Flig
         if (kinds[m] == FlightplanKind::Unused) {
             plans.emplace_back();
         } else {
-            plans.emplace_back(meshes[m], kinds[m] == FlightplanKind::MergedSamples);
+            plans.emplace_back(meshes[m], kinds[m] == FlightplanKind::MergedSamples, threads);
         }
         merge_deviation_.push_back(plans.back().merge_deviation());
     }

@@ -98,3 +98,33 @@ TEST(Flightplans, SegmentLookupAgreesWithBinarySearchInAnyQueryOrder) {
         }
     }
 }
+
+TEST(Flightplans, AnyThreadCountBuildsTheSameFlightplans) {
+    // Large enough to be split over threads (FLIGHTPLAN_SAMPLES_PER_THREAD),
+    // with merges, a few still vertices and deviations left by the noise.
+    MeshAnimation mesh = random_walk(3001, 120, 11, 1e-7);
+    for (int k = 0; k < 120; ++k) {
+        for (int axis = 0; axis < 3; ++axis) mesh.points[(static_cast<size_t>(k) * 3001 + 1500) * 3 + axis] = 0.25;
+    }
+    ASSERT_GT(static_cast<int64_t>(mesh.times.size()) * mesh.vertex_count, 3 * usdksl::FLIGHTPLAN_SAMPLES_PER_THREAD);
+    const Flightplans one(mesh, true, 1);
+    ASSERT_TRUE(one.merged());
+    ASSERT_GT(one.merge_deviation(), 0.0);
+    for (int32_t threads : {2, 3, 8}) {
+        const Flightplans many(mesh, true, threads);
+        EXPECT_EQ(many.merged(), one.merged());
+        EXPECT_EQ(many.merge_deviation(), one.merge_deviation());
+        EXPECT_EQ(many.max_abs_coordinate(), one.max_abs_coordinate());
+        for (int32_t v = 0; v < mesh.vertex_count; ++v) {
+            ASSERT_EQ(many.key_begin(v), one.key_begin(v)) << "vertex " << v << ", " << threads << " threads";
+            ASSERT_EQ(many.key_end(v), one.key_end(v)) << "vertex " << v << ", " << threads << " threads";
+            EXPECT_EQ(many.vertex_magnitude(v), one.vertex_magnitude(v));
+            EXPECT_EQ(many.vertex_deviation(v), one.vertex_deviation(v));
+            for (int64_t k = one.key_begin(v); k < one.key_end(v); ++k) {
+                ASSERT_EQ(many.key_time(k), one.key_time(k));
+                for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(many.key_coord(k, axis), one.key_coord(k, axis));
+            }
+        }
+    }
+    EXPECT_EQ(one.key_end(1500) - one.key_begin(1500), 1);  // the still vertex keeps one breakpoint
+}

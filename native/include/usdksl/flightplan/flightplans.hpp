@@ -25,8 +25,9 @@ public:
     ///        straight line at constant speed, within
     ///        FLIGHTPLAN_COLLINEAR_TOLERANCE times the largest absolute
     ///        coordinate of the samples that merge (local to the vertex and to
-    ///        that stretch of time).
-    Flightplans(const MeshAnimation& mesh, bool merge_collinear);
+    ///        that stretch of time). Up to `threads` threads build runs of
+    ///        vertices (the same flightplans for any count).
+    Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_t threads = 1);
 
     int32_t vertex_count() const { return vertex_count_; }
 
@@ -108,6 +109,11 @@ public:
 
 
 private:
+    struct VertexRange;
+    /// Builds the flightplans of vertices [first, last) into `range`, and
+    /// their entries of `vertex_magnitude`.
+    static void build_range(const MeshAnimation& mesh, bool merge_collinear, int32_t first, int32_t last,
+                            std::vector<double>& vertex_magnitude, VertexRange& range);
     int64_t search_segment(int32_t v, double t) const;
 
     /// The breakpoints, shared by copies: a copy costs one cursor per vertex,

@@ -29,11 +29,13 @@ constexpr double MERGE_DEVIATION_TO_DISTANCE = 2.0;
 
 /// @brief Meshes plus their flightplans and the slack merging introduced.
 struct Scene {
-    /// @brief Builds flightplans for every mesh, merging collinear segments when asked.
-    Scene(const std::vector<MeshAnimation>& meshes, bool merge_collinear);
+    /// @brief Builds flightplans for every mesh, merging collinear segments
+    ///        when asked, on up to `threads` threads.
+    Scene(const std::vector<MeshAnimation>& meshes, bool merge_collinear, int32_t threads = 1);
 
-    /// @brief Builds flightplans of the given kind per mesh (kinds.size() == meshes.size()).
-    Scene(const std::vector<MeshAnimation>& meshes, const std::vector<FlightplanKind>& kinds);
+    /// @brief Builds flightplans of the given kind per mesh (kinds.size() ==
+    ///        meshes.size()), on up to `threads` threads.
+    Scene(const std::vector<MeshAnimation>& meshes, const std::vector<FlightplanKind>& kinds, int32_t threads = 1);
 
     const std::vector<MeshAnimation>& meshes;
     std::vector<Flightplans> plans;
