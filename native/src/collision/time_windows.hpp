@@ -25,6 +25,12 @@ struct TimeWindow {
 ///        an 11-sample shot split over 2 threads took 1.9x the CPU of one.
 constexpr int64_t MIN_SAMPLE_STEPS_PER_WINDOW = 8;
 
+/// @brief Fewest sample steps either part of a running window keeps when a
+///        thread that came free takes its later half: fewer than a planned
+///        window, since the thread would idle otherwise, and the last cuts
+///        decide how long the other thread runs on alone.
+constexpr int64_t MIN_SAMPLE_STEPS_PER_CUT = 4;
+
 /// @brief Where a checked range may be cut into windows: its sample times,
 ///        and how many flightplan breakpoints fall on each.
 class WindowCuts {

@@ -33,10 +33,10 @@ ScheduledWindow* WindowSchedule::cut_running_window() {
             to = b;
         }
     }
-    if (!victim || to - from < 2 * MIN_SAMPLE_STEPS_PER_WINDOW) return nullptr;
+    if (!victim || to - from < 2 * MIN_SAMPLE_STEPS_PER_CUT) return nullptr;
     // Half the steps ahead each; both parts keep the minimum span.
-    const int64_t cut = cuts_.best_cut(from + (to - from) / 2, (to - from) / 4, from + MIN_SAMPLE_STEPS_PER_WINDOW,
-                                       to - MIN_SAMPLE_STEPS_PER_WINDOW);
+    const int64_t cut = cuts_.best_cut(from + (to - from) / 2, (to - from) / 4, from + MIN_SAMPLE_STEPS_PER_CUT,
+                                       to - MIN_SAMPLE_STEPS_PER_CUT);
     if (cut < 0) return nullptr;
     const double at = cuts_.times()[static_cast<size_t>(cut)];
     windows_.push_back(std::make_unique<ScheduledWindow>(at, victim->end));

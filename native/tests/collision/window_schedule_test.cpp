@@ -1,7 +1,7 @@
 /// @file window_schedule_test.cpp
 /// @brief Handing windows to threads: the planned ones in order, then the
 ///        later half of the running window with the most sample steps ahead,
-///        and only while both halves keep MIN_SAMPLE_STEPS_PER_WINDOW steps.
+///        and only while both halves keep MIN_SAMPLE_STEPS_PER_CUT steps.
 
 #include "../../src/collision/window_schedule.hpp"
 #include "animations.hpp"
@@ -50,8 +50,8 @@ TEST(WindowSchedule, CutsTheRunningWindowWithTheMostStepsAheadInHalf) {
     EXPECT_EQ(taken->end, 60.0);
     EXPECT_EQ(taken->begin, std::floor(taken->begin)) << "cut at a sample time";
     EXPECT_NEAR(taken->begin, 35.0, 50.0 / 4.0) << "about half the steps ahead";
-    EXPECT_GE(taken->begin - 10.0, static_cast<double>(MIN_SAMPLE_STEPS_PER_WINDOW));
-    EXPECT_GE(60.0 - taken->begin, static_cast<double>(MIN_SAMPLE_STEPS_PER_WINDOW));
+    EXPECT_GE(taken->begin - 10.0, static_cast<double>(MIN_SAMPLE_STEPS_PER_CUT));
+    EXPECT_GE(60.0 - taken->begin, static_cast<double>(MIN_SAMPLE_STEPS_PER_CUT));
     EXPECT_EQ(first->end, taken->begin) << "the cut window ends where the taken part begins";
     EXPECT_EQ(first->stop.stop_at.load(), taken->begin) << "and is told to stop there";
     EXPECT_TRUE(first->stop.stops_before(taken->begin));
@@ -68,12 +68,12 @@ TEST(WindowSchedule, LeavesAWindowWhoseHalvesWouldBeTooShort) {
     WindowSchedule schedule(range.cuts, {{0.0, 60.0}, {60.0, 100.0}}, true);
     ScheduledWindow* first = schedule.next();
     ScheduledWindow* second = schedule.next();
-    first->stop.reach(60.0 - (2 * MIN_SAMPLE_STEPS_PER_WINDOW - 1));
-    second->stop.reach(100.0 - (2 * MIN_SAMPLE_STEPS_PER_WINDOW - 1));
+    first->stop.reach(60.0 - (2 * MIN_SAMPLE_STEPS_PER_CUT - 1));
+    second->stop.reach(100.0 - (2 * MIN_SAMPLE_STEPS_PER_CUT - 1));
     EXPECT_EQ(schedule.next(), nullptr);
     EXPECT_EQ(first->end, 60.0);
     EXPECT_EQ(first->stop.stop_at.load(), 60.0);
-    first->stop.reach(60.0 - 2 * MIN_SAMPLE_STEPS_PER_WINDOW);
+    first->stop.reach(60.0 - 2 * MIN_SAMPLE_STEPS_PER_CUT);
     EXPECT_NE(schedule.next(), nullptr) << "exactly twice the minimum span ahead is cut";
 }
 
