@@ -170,12 +170,19 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_
     for (const VertexRange& part : parts) total += part.key_times.size();
     offsets.reserve(static_cast<size_t>(n) + 1);
     offsets.push_back(0);
-    key_times.reserve(total);
-    key_points.reserve(3 * total);
-    for (const VertexRange& part : parts) {
+    if (ranges == 1) {  // one run: its arrays are the mesh's, not copied
+        key_times = std::move(parts[0].key_times);
+        key_points = std::move(parts[0].key_points);
+    } else {
+        key_times.reserve(total);
+        key_points.reserve(3 * total);
+    }
+    for (VertexRange& part : parts) {
         for (int64_t count : part.count) offsets.push_back(offsets.back() + count);
-        key_times.insert(key_times.end(), part.key_times.begin(), part.key_times.end());
-        key_points.insert(key_points.end(), part.key_points.begin(), part.key_points.end());
+        if (ranges > 1) {
+            key_times.insert(key_times.end(), part.key_times.begin(), part.key_times.end());
+            key_points.insert(key_points.end(), part.key_points.begin(), part.key_points.end());
+        }
         for (const auto& [v, deviation] : part.deviations) {
             if (vertex_deviation.empty()) vertex_deviation.assign(static_cast<size_t>(n), 0.0);
             vertex_deviation[static_cast<size_t>(v)] = deviation;

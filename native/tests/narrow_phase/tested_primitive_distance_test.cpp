@@ -43,15 +43,18 @@ double each_pair_on_its_own(const Triangle& ids_a, const Positions& a, const Tri
     return std::sqrt(squared);
 }
 
+/// A point uniform in the cube [-1, 1]^3.
+Vec3 random_point(std::mt19937& random) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const double x = unit(random), y = unit(random), z = unit(random);
+    return Vec3(x, y, z);
+}
+
 } // namespace
 
 TEST(TestedPrimitiveDistance, EqualsEveryTestedPairMeasuredOnItsOwn) {
     std::mt19937 random(20261123);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const auto point = [&]() -> Vec3 {
-        const double x = unit(random), y = unit(random), z = unit(random);
-        return Vec3(x, y, z);
-    };
+    const auto point = [&]() { return random_point(random); };
     // No shared vertex, one shared vertex (at each corner), a shared edge;
     // and degenerate shapes: a repeated point, collinear corners.
     const std::array<Triangle, 5> ids_b_cases = {Triangle{3, 4, 5}, Triangle{4, 0, 5}, Triangle{3, 5, 2},
@@ -82,10 +85,7 @@ TEST(TestedPrimitiveDistance, EqualsEveryTestedPairMeasuredOnItsOwn) {
 TEST(TestedPrimitiveDistance, StopsEarlyOnlyWithinTheDistanceAsked) {
     std::mt19937 random(20261124);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const auto point = [&]() -> Vec3 {
-        const double x = unit(random), y = unit(random), z = unit(random);
-        return Vec3(x, y, z);
-    };
+    const auto point = [&]() { return random_point(random); };
     const Triangle ids_a{0, 1, 2}, ids_b{3, 4, 5};
     int stopped = 0, measured = 0;
     for (int trial = 0; trial < 2000; ++trial) {
