@@ -6,6 +6,7 @@
 
 #include "usdksl/broad_phase/baselines.hpp"
 #include "usdksl/kinetic/separation_list.hpp"
+#include "usdksl/run_on_threads.hpp"
 #include "usdksl/scene/scene.hpp"
 #include "usdksl/scene/triangle_pair_tester.hpp"
 
@@ -70,54 +71,16 @@ struct WindowCancelled {};
 /// True when the method honours WindowStop, so a running window can be cut.
 bool cuts_windows(Method method) { return method != Method::BruteForce; }
 
-/// Runs body(item) on `workers` threads (the caller's included) for every
-/// item take(item) hands out until it returns false; after an exception,
-/// hand_out_no_more() is called so the other threads stop taking items, and
-/// the first exception is rethrown (a WindowCancelled only follows another
-/// one and is not reported).
-template <typename Item, typename Take, typename Body, typename Stop>
-void run_on_threads(int32_t workers, Take take, Body body, Stop hand_out_no_more) {
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    const auto work = [&]() {
-        Item item;
-        while (take(item)) {
-            try {
-                body(item);
-            } catch (const WindowCancelled&) {
-                hand_out_no_more();
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(failure_mutex);
-                if (!failure) failure = std::current_exception();
-                hand_out_no_more();
-            }
-        }
-    };
-    std::vector<std::thread> threads;
-    for (int32_t t = 1; t < workers; ++t) threads.emplace_back(work);
-    work();
-    for (std::thread& thread : threads) thread.join();
-    if (failure) std::rethrow_exception(failure);
-}
-
 /// Runs body(window) for every window the schedule hands out, on `threads` threads.
 template <typename Body>
 void check_windows_in_parallel(int32_t threads, WindowSchedule& schedule, Body body) {
-    run_on_threads<ScheduledWindow*>(
+    run_on_threads<ScheduledWindow*, WindowCancelled>(
         threads, [&](ScheduledWindow*& window) { return (window = schedule.next()) != nullptr; },
         [&](ScheduledWindow* window) {
             body(*window);
             schedule.finish(*window);
         },
         [&]() { schedule.cancel(); });
-}
-
-/// Runs body(k) for k in [0, count) on up to `threads` threads.
-template <typename Body>
-void parallel_for(int32_t threads, int32_t count, Body body) {
-    std::atomic<int32_t> next{0};
-    run_on_threads<int32_t>(
-        std::min(threads, count), [&](int32_t& k) { return (k = next++) < count; }, body, [&]() { next = count; });
 }
 
 /// Runs one method over [t_begin, t_end] on `scene`, recording candidates in
@@ -309,7 +272,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
             const int32_t chunks = static_cast<int32_t>(std::min<size_t>(static_cast<size_t>(threads), open.size()));
             std::vector<std::vector<Contact>> parts(static_cast<size_t>(chunks));
             std::vector<Counters> part_counters(static_cast<size_t>(chunks));
-            parallel_for(threads, chunks, [&](int32_t k) {
+            parallel_for<WindowCancelled>(threads, chunks, [&](int32_t k) {
                 std::vector<Contact> share;
                 for (size_t i = static_cast<size_t>(k); i < open.size(); i += static_cast<size_t>(chunks)) {
                     share.push_back(open[i]);

@@ -1,15 +1,13 @@
 #include "usdksl/flightplan/flightplans.hpp"
 
 #include "usdksl/constants.hpp"
+#include "usdksl/run_on_threads.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
 #include <utility>
 
 namespace usdksl {
@@ -138,30 +136,10 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_
                               samples_total / FLIGHTPLAN_SAMPLES_PER_THREAD})));
     std::vector<VertexRange> parts(static_cast<size_t>(ranges));
     const auto range_begin = [&](int32_t r) { return static_cast<int32_t>(static_cast<int64_t>(n) * r / ranges); };
-    {
-        std::vector<std::thread> helpers;
-        std::exception_ptr failure;
-        std::mutex failure_lock;
-        for (int32_t r = 1; r < ranges; ++r) {
-            helpers.emplace_back([&, r]() {
-                try {
-                    build_range(mesh, merge_collinear, range_begin(r), range_begin(r + 1), vertex_magnitude,
-                                parts[static_cast<size_t>(r)]);
-                } catch (...) {
-                    std::lock_guard<std::mutex> lock(failure_lock);
-                    if (!failure) failure = std::current_exception();
-                }
-            });
-        }
-        try {
-            build_range(mesh, merge_collinear, 0, range_begin(1), vertex_magnitude, parts[0]);
-        } catch (...) {
-            std::lock_guard<std::mutex> lock(failure_lock);
-            if (!failure) failure = std::current_exception();
-        }
-        for (std::thread& helper : helpers) helper.join();
-        if (failure) std::rethrow_exception(failure);
-    }
+    parallel_for(ranges, ranges, [&](int32_t r) {
+        build_range(mesh, merge_collinear, range_begin(r), range_begin(r + 1), vertex_magnitude,
+                    parts[static_cast<size_t>(r)]);
+    });
     std::vector<int64_t>& offsets = storage->offsets;
     std::vector<double>& key_times = storage->key_times;
     std::vector<double>& key_points = storage->key_points;
@@ -170,16 +148,15 @@ Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_
     for (const VertexRange& part : parts) total += part.key_times.size();
     offsets.reserve(static_cast<size_t>(n) + 1);
     offsets.push_back(0);
-    if (ranges == 1) {  // one run: its arrays are the mesh's, not copied
-        key_times = std::move(parts[0].key_times);
-        key_points = std::move(parts[0].key_points);
-    } else {
-        key_times.reserve(total);
-        key_points.reserve(3 * total);
-    }
-    for (VertexRange& part : parts) {
+    // The first run's arrays become the mesh's (on one thread, the only copy); the others follow them.
+    key_times = std::move(parts[0].key_times);
+    key_points = std::move(parts[0].key_points);
+    key_times.reserve(total);
+    key_points.reserve(3 * total);
+    for (size_t r = 0; r < parts.size(); ++r) {
+        const VertexRange& part = parts[r];
         for (int64_t count : part.count) offsets.push_back(offsets.back() + count);
-        if (ranges > 1) {
+        if (r > 0) {
             key_times.insert(key_times.end(), part.key_times.begin(), part.key_times.end());
             key_points.insert(key_points.end(), part.key_points.begin(), part.key_points.end());
         }

@@ -296,7 +296,6 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     }
     e.overlapping_leaf = overlapping_leaf;
     e.alive = true;
-    e.step = static_cast<int32_t>(step_index_);
     list.index.emplace(pair_key(a, b), id);
     if (both_leaves(list, a, b)) {
         const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[a];
@@ -435,12 +434,9 @@ bool KineticSeparationLists::clear_at_begin(Entry& e) {
     const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
     const std::array<Vec3, 3> a = triangle_corners(trees_[mesh_a]->begin_points(), ids_a);
     const std::array<Vec3, 3> b = triangle_corners(trees_[mesh_b]->begin_points(), ids_b);
-    double magnitude = 0.0;
-    for (int32_t v : ids_a) magnitude = std::max(magnitude, scene_.plans[mesh_a].vertex_magnitude(v));
-    for (int32_t v : ids_b) magnitude = std::max(magnitude, scene_.plans[mesh_b].vertex_magnitude(v));
     ClearanceRun& run = clearance_run(e);
     run.clearance.start(ids_a, a, ids_b, b, mesh_a == mesh_b, margin_of(list), tester_.settings().tolerance,
-                        magnitude);
+                        std::max(scene_.triangle_magnitude(mesh_a, tri_a), scene_.triangle_magnitude(mesh_b, tri_b)));
     // The static test also reports triangles that pierce each other without
     // any primitive pair within reach: only the plane proof rules that out.
     if (!run.clearance.holds_at(a, b) || !run.clearance.separated_by_plane()) {
@@ -460,11 +456,8 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     const Triangle& ids_a = triangles[pair.tri_a];
     const Triangle& ids_b = triangles[pair.tri_b];
     const auto start_certificate = [&]() {
-        const Flightplans& plans = scene_.plans[list.mesh_a];
-        double magnitude = 0.0;
-        for (const Triangle* ids : {&ids_a, &ids_b}) {
-            for (int32_t v : *ids) magnitude = std::max(magnitude, plans.vertex_magnitude(v));
-        }
+        const double magnitude = std::max(scene_.triangle_magnitude(list.mesh_a, pair.tri_a),
+                                          scene_.triangle_magnitude(list.mesh_a, pair.tri_b));
         pair.clearance.start(ids_a, triangle_corners(tree.begin_points(), ids_a), ids_b,
                              triangle_corners(tree.begin_points(), ids_b),
                              margin_of(list), tester_.settings().tolerance, magnitude);
@@ -581,7 +574,6 @@ uint64_t KineticSeparationLists::tester_key(const List& list, int32_t a, int32_t
 
 void KineticSeparationLists::update(int32_t id) {
     Entry& e = entries_[id];
-    e.step = static_cast<int32_t>(step_index_);
     if (e.inert) return;  // a settled triangle pair: nothing under it to find
     const List& list = lists_[e.list];
     const int32_t list_id = e.list;
@@ -681,8 +673,9 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
                 if (id + kEntryPrefetchDistance < slots) __builtin_prefetch(&entries_[id + kEntryPrefetchDistance]);
 #endif
                 update(id);
-                const Entry& e = entries_[id];  // or whatever entry took its place meanwhile
-                if (e.alive) wake_step_[id] = std::max(e.step + 1, e.quiet_until);
+                // It (or an entry that took its slot meanwhile) is up to date for this step.
+                const Entry& e = entries_[id];
+                if (e.alive) wake_step_[id] = std::max(static_cast<int32_t>(step_index_) + 1, e.quiet_until);
             }
         }
         step_shared_vertex_pairs();

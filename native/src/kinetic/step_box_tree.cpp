@@ -107,8 +107,7 @@ void StepBoxTree::record_travel(int64_t step, double t0, double t1) {
     if (node_travel_.empty()) {
         node_travel_.assign(static_cast<size_t>(node_count) * NODE_TRAVEL_AHEAD_STEPS, 0.0f);
         ahead_points_.resize(static_cast<size_t>(n) * 3);
-    }
-    if (ahead_segment_.empty()) {
+        ahead_moved_.resize(static_cast<size_t>(n));
         ahead_segment_.resize(static_cast<size_t>(n));
         for (int32_t v = 0; v < n; ++v) ahead_segment_[static_cast<size_t>(v)] = plans.key_begin(v);
     }
@@ -122,7 +121,7 @@ void StepBoxTree::record_travel(int64_t step, double t0, double t1) {
         for (int32_t v = 0; v < n; ++v) position(v, t0, &ahead_points_[3 * static_cast<size_t>(v)]);
     }
     // Per vertex, the most it moves along one axis (linear over the step: end minus begin).
-    std::vector<double> moved(static_cast<size_t>(n));
+    std::vector<double>& moved = ahead_moved_;
     for (int32_t v = 0; v < n; ++v) {
         double at_end[3];
         position(v, t1, at_end);

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 
 namespace usdksl {
 namespace {
@@ -18,11 +17,31 @@ bool edges_share_vertex(int32_t e0, int32_t e1, int32_t f0, int32_t f1) {
     return e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1;
 }
 
+/// Least and most height of a triangle's corners along an axis: every point
+/// of the triangle lies between them.
+struct Span {
+    double low, high;
+};
+
+Span span_along(const Vec3& axis, const std::array<Vec3, 3>& t) {
+    const double h0 = axis.dot(t[0]), h1 = axis.dot(t[1]), h2 = axis.dot(t[2]);
+    return {std::min({h0, h1, h2}), std::max({h0, h1, h2})};
+}
+
+Span joined(const Span& x, const Span& y) { return {std::min(x.low, y.low), std::max(x.high, y.high)}; }
+
+/// Gap between two spans, whichever lies above (negative when they overlap).
+double gap_between(const Span& a, const Span& b) { return std::max(b.low - a.high, a.low - b.high); }
+
 /// Smallest height of B's vertices minus the largest of A's along `normal`.
 double plane_gap(const Vec3& normal, const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
-    const double top_a = std::max({normal.dot(a[0]), normal.dot(a[1]), normal.dot(a[2])});
-    const double bottom_b = std::min({normal.dot(b[0]), normal.dot(b[1]), normal.dot(b[2])});
-    return bottom_b - top_a;
+    return span_along(normal, b).low - span_along(normal, a).high;
+}
+
+/// The axes across a triangle's edges in its plane (normal x edge, not unit).
+std::array<Vec3, 3> in_plane_axes(const std::array<Vec3, 3>& t) {
+    const Vec3 normal = (t[1] - t[0]).cross(t[2] - t[0]);
+    return {normal.cross(t[1] - t[0]), normal.cross(t[2] - t[1]), normal.cross(t[0] - t[2])};
 }
 
 } // namespace
@@ -50,25 +69,10 @@ double in_plane_gap(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) 
     // Along any unit axis, the gap between the two triangles' projections
     // bounds the distance of any point of one from any point of the other.
     double best = -std::numeric_limits<double>::infinity();
-    const auto project = [](const Vec3& axis, const std::array<Vec3, 3>& t, double& low, double& high) {
-        low = high = axis.dot(t[0]);
-        for (int i = 1; i < 3; ++i) {
-            const double h = axis.dot(t[i]);
-            low = std::min(low, h);
-            high = std::max(high, h);
-        }
-    };
     for (const std::array<Vec3, 3>* t : {&a, &b}) {
-        const std::array<Vec3, 3>& corner = *t;
-        const Vec3 normal = (corner[1] - corner[0]).cross(corner[2] - corner[0]);
-        for (int i = 0; i < 3; ++i) {
-            const Vec3 axis = normal.cross(corner[(i + 1) % 3] - corner[i]);  // in the plane, across the edge
+        for (const Vec3& axis : in_plane_axes(*t)) {
             const double length = axis.norm();
-            if (!(length > 0.0)) continue;
-            double low_a, high_a, low_b, high_b;
-            project(axis, a, low_a, high_a);
-            project(axis, b, low_b, high_b);
-            best = std::max(best, std::max(low_b - high_a, low_a - high_b) / length);
+            if (length > 0.0) best = std::max(best, gap_between(span_along(axis, a), span_along(axis, b)) / length);
         }
     }
     return best;
@@ -78,28 +82,16 @@ bool swept_apart(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1, c
                  const std::array<Vec3, 3>& b1, double reach) {
     const auto apart_along = [&](const Vec3& axis) {
         const double length = axis.norm();
-        if (!(length > 0.0)) return false;
-        double low_a = axis.dot(a0[0]), high_a = low_a, low_b = axis.dot(b0[0]), high_b = low_b;
-        for (int i = 0; i < 3; ++i) {
-            for (const double h : {axis.dot(a0[i]), axis.dot(a1[i])}) {
-                low_a = std::min(low_a, h);
-                high_a = std::max(high_a, h);
-            }
-            for (const double h : {axis.dot(b0[i]), axis.dot(b1[i])}) {
-                low_b = std::min(low_b, h);
-                high_b = std::max(high_b, h);
-            }
-        }
-        return std::max(low_b - high_a, low_a - high_b) > reach * length;
+        return length > 0.0 && gap_between(joined(span_along(axis, a0), span_along(axis, a1)),
+                                           joined(span_along(axis, b0), span_along(axis, b1))) > reach * length;
     };
     const auto normal = [](const std::array<Vec3, 3>& t) { return Vec3((t[1] - t[0]).cross(t[2] - t[0])); };
-    const Vec3 normal_a = normal(a0), normal_b = normal(b0);
-    if (apart_along(normal_a) || apart_along(normal_b) || apart_along(normal(a1)) || apart_along(normal(b1))) {
+    if (apart_along(normal(a0)) || apart_along(normal(b0)) || apart_along(normal(a1)) || apart_along(normal(b1))) {
         return true;
     }
-    for (const auto& [t, n] : {std::pair<const std::array<Vec3, 3>*, const Vec3*>{&a0, &normal_a}, {&b0, &normal_b}}) {
-        for (int i = 0; i < 3; ++i) {
-            if (apart_along(n->cross((*t)[(i + 1) % 3] - (*t)[i]))) return true;
+    for (const std::array<Vec3, 3>* t : {&a0, &b0}) {
+        for (const Vec3& axis : in_plane_axes(*t)) {
+            if (apart_along(axis)) return true;
         }
     }
     return false;

@@ -189,8 +189,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
     double magnitude = -1.0;
     const auto pair_magnitude = [&]() {  // no coordinate of the six vertices exceeds it
         if (magnitude < 0.0) {
-            magnitude = 0.0;
-            for (int i = 0; i < 6; ++i) magnitude = std::max(magnitude, plans[i]->vertex_magnitude(vertex[i]));
+            magnitude = std::max(scene_.triangle_magnitude(mesh_a, tri_a), scene_.triangle_magnitude(mesh_b, tri_b));
         }
         return magnitude;
     };

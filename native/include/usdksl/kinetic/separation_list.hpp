@@ -80,7 +80,6 @@ private:
         int32_t list = -1;
         int32_t a = -1, b = -1;      // tree nodes (mesh_a's tree, mesh_b's tree)
         int32_t fa = -1, fb = -1;    // BVTT father, -1 for the root pair
-        int32_t step = -1;           // step in which the entry was created or last brought up to date
         int32_t quiet_until = 0;     // no step before this one can find work for it: boxes apart, or
                                      // an overlapping leaf pair covered ahead up to that step
         int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1

@@ -94,10 +94,12 @@ private:
     /// step; the end of one step is the begin of the next.
     std::vector<double> begin_points_, end_points_;
     double fitted_end_;
-    /// record_travel(): positions at the end of the last recorded step, and
-    /// per node (NODE_TRAVEL_AHEAD_STEPS slots each, by step modulo) its travel.
+    /// record_travel(): positions at the end of the last recorded step, each
+    /// vertex's cursor and travel over the step being recorded, and per node
+    /// (NODE_TRAVEL_AHEAD_STEPS slots each, by step modulo) its travel.
     std::vector<double> ahead_points_;
     std::vector<int64_t> ahead_segment_;
+    std::vector<double> ahead_moved_;
     double ahead_end_ = -std::numeric_limits<double>::infinity();
     std::vector<float> node_travel_;
     bool still_;  // no vertex ever moves: the first fit holds for every step

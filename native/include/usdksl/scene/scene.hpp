@@ -66,6 +66,15 @@ struct Scene {
         return thickness + MERGE_DEVIATION_TO_DISTANCE * (triangle_deviation(mesh_a, tri_a) + triangle_deviation(mesh_b, tri_b));
     }
 
+    /// @brief Scene units that no coordinate of triangle `tri` of mesh
+    ///        `mesh` exceeds over its whole flightplan (for rounding allowances).
+    double triangle_magnitude(int32_t mesh, int32_t tri) const {
+        const Flightplans& p = plans[mesh];
+        double magnitude = 0.0;
+        for (int32_t v : meshes[mesh].triangles[tri]) magnitude = std::max(magnitude, p.vertex_magnitude(v));
+        return magnitude;
+    }
+
     /// @brief Largest merge deviation (infinity norm, scene units) of the
     ///        vertices of triangle `tri` of mesh `mesh`.
     double triangle_deviation(int32_t mesh, int32_t tri) const {
