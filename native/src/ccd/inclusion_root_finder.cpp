@@ -11,6 +11,7 @@
 /// rounding bound is not a contact.
 
 #include "inclusion_root_finder.hpp"
+#include "whole_step_exclusion.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
 #include "usdksl/ccd/corner_sign.hpp"
@@ -791,6 +792,8 @@ CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& se
     if (fork) fork->diverged = false;
     t_max = std::min(t_max, 1.0);
     if (!(t_max > 0.0)) return CCDResult{};
+    // Tolerance plays no part in it: a finer search would be excluded alike (fork not diverged).
+    if (excluded_over_whole_step(f, settings.thickness)) return CCDResult{};
     RootSearch search(f, settings);
     thread_local std::vector<ParameterBox> heap;
     heap.clear();
