@@ -42,6 +42,19 @@ def path_rank(paths: Sequence[str]) -> np.ndarray:
     return rank
 
 
+def _pair_key(rank_a: np.ndarray, face_a: np.ndarray, rank_b: np.ndarray, face_b: np.ndarray):
+    """int64[C] whose numeric order is the lexicographic order of (rank_a, face_a, rank_b, face_b), or
+    None when the four do not fit in 63 bits together (one sort key instead of four)."""
+    rank_bits = int(max(rank_a.max(), rank_b.max())).bit_length()
+    face_bits = int(max(face_a.max(), face_b.max())).bit_length()
+    side_bits = rank_bits + face_bits
+    if 2 * side_bits > 63 or min(int(face_a.min()), int(face_b.min())) < 0:
+        return None
+    side_a = (rank_a << face_bits) | face_a
+    side_b = (rank_b << face_bits) | face_b
+    return (side_a << side_bits) | side_b
+
+
 def canonical_first_contacts(time, mesh_a, face_a, mesh_b, face_b, feature,
                              mesh_rank: Optional[np.ndarray] = None) -> Columns:
     """The one place a contact pair is put in canonical order.
@@ -79,13 +92,22 @@ def canonical_first_contacts(time, mesh_a, face_a, mesh_b, face_b, feature,
 
     if time.size:
         rank_a, rank_b = mesh_rank[mesh_a], mesh_rank[mesh_b]
-        by_pair = np.lexsort((feature, time, face_b, rank_b, face_a, rank_a))
-        key = np.stack([rank_a, face_a, rank_b, face_b], axis=1)[by_pair]
-        first = np.ones(by_pair.size, bool)
-        first[1:] = np.any(key[1:] != key[:-1], axis=1)
-        chosen = by_pair[first]
-        order = chosen[np.lexsort((feature[chosen], face_b[chosen], rank_b[chosen], face_a[chosen],
-                                   rank_a[chosen], time[chosen]))]
+        pair = _pair_key(rank_a, face_a, rank_b, face_b)
+        if pair is not None:
+            by_pair = np.lexsort((feature, time, pair))
+            sorted_pair = pair[by_pair]
+            first = np.ones(by_pair.size, bool)
+            first[1:] = sorted_pair[1:] != sorted_pair[:-1]
+            chosen = by_pair[first]
+            order = chosen[np.lexsort((feature[chosen], pair[chosen], time[chosen]))]
+        else:
+            by_pair = np.lexsort((feature, time, face_b, rank_b, face_a, rank_a))
+            key = np.stack([rank_a, face_a, rank_b, face_b], axis=1)[by_pair]
+            first = np.ones(by_pair.size, bool)
+            first[1:] = np.any(key[1:] != key[:-1], axis=1)
+            chosen = by_pair[first]
+            order = chosen[np.lexsort((feature[chosen], face_b[chosen], rank_b[chosen], face_a[chosen],
+                                       rank_a[chosen], time[chosen]))]
         time, mesh_a, face_a, mesh_b, face_b, feature = (
             column[order] for column in (time, mesh_a, face_a, mesh_b, face_b, feature))
     return (time, mesh_a.astype(np.int32), face_a.astype(np.int32), mesh_b.astype(np.int32),

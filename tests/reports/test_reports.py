@@ -5,9 +5,10 @@ import io
 import json
 
 import numpy as np
+import pytest
 
 from usdksl.clock import StageClock
-from usdksl.contacts import ContactTable
+from usdksl.contacts import ContactTable, canonical_first_contacts, path_rank
 from usdksl.reports.formats import contacts_csv, format_times, json_report, summary_csv, summary_line
 from usdksl.reports.junit import junit_report
 
@@ -93,6 +94,39 @@ def test_large_table_is_deterministic_and_sorted():
     assert keys == sorted(keys)
     assert all(r[1] < r[3] or (r[1] == r[3] and int(r[2]) < int(r[4])) for r in rows)
     assert len(set((r[1], r[2], r[3], r[4]) for r in rows)) == len(rows)
+
+
+def _reference_first_contacts(rows, rank):
+    """canonical_first_contacts written out row by row: orient, drop same-face rows, keep each pair's
+    (earliest time, lowest feature), sort by (time, rank_a, face_a, rank_b, face_b)."""
+    flip = {0: 1, 1: 0}
+    best = {}
+    for time, mesh_a, face_a, mesh_b, face_b, feature in rows:
+        swap = face_a > face_b if mesh_a == mesh_b else rank[mesh_a] > rank[mesh_b]
+        if swap:
+            mesh_a, face_a, mesh_b, face_b, feature = mesh_b, face_b, mesh_a, face_a, flip.get(feature, feature)
+        if mesh_a == mesh_b and face_a == face_b:
+            continue
+        key = (rank[mesh_a], face_a, rank[mesh_b], face_b)
+        if key not in best or (time, feature) < best[key][0]:
+            best[key] = ((time, feature), (time, mesh_a, face_a, mesh_b, face_b, feature))
+    chosen = [row for _, row in best.values()]
+    return sorted(chosen, key=lambda r: (r[0], rank[r[1]], r[2], rank[r[3]], r[4], r[5]))
+
+
+@pytest.mark.parametrize("largest_face", [50, 2 ** 31 - 1])
+def test_first_contacts_match_a_row_by_row_reference(largest_face):
+    # Small faces take the one-key sort (the four ids packed in an int64); faces near 2**31 do not fit
+    # and take the four-key sort: both must give the reference's rows.
+    rng = np.random.default_rng(largest_face % 1000)
+    count = 3000
+    face = lambda: rng.choice([0, 1, 2, largest_face - 1, largest_face], count)  # noqa: E731
+    rows = list(zip(rng.integers(0, 6, count).astype(float) / 2, rng.integers(0, 3, count).tolist(), face().tolist(),
+                    rng.integers(0, 3, count).tolist(), face().tolist(), rng.integers(0, 4, count).tolist()))
+    paths = ["/c", "/a", "/b"]
+    rank = path_rank(paths)
+    got = canonical_first_contacts(*(np.array(column) for column in zip(*rows)), mesh_rank=rank)
+    assert list(zip(*(column.tolist() for column in got))) == _reference_first_contacts(rows, rank)
 
 
 def _plan():

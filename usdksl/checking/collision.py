@@ -99,9 +99,13 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
     raw = _native.find_contacts(native_meshes, pair_array, method, t_begin, t_end, float(tolerance),
                                 float(thickness), int(max_iterations), int(discrete_substeps), progress,
                                 int(threads))
-    time = np.maximum(raw["time"], t_begin)
-    order = _row_order(time, raw["mesh_a"], raw["tri_a"], raw["mesh_b"], raw["tri_b"])
-    return CollisionResult(time=time[order], mesh_a=raw["mesh_a"][order], tri_a=raw["tri_a"][order],
-                           mesh_b=raw["mesh_b"][order], tri_b=raw["tri_b"][order],
-                           feature=raw["feature"][order], undecided=raw["undecided"][order],
-                           counters=dict(raw["counters"]))
+    time = raw["time"]
+    columns = {name: raw[name] for name in ("mesh_a", "tri_a", "mesh_b", "tri_b", "feature", "undecided")}
+    # The core returns its rows in _row_order already; only times it clamps to the range start (the
+    # earliest rows) can need re-ordering among themselves.
+    if time.size and time[0] < t_begin:
+        time = np.maximum(time, t_begin)
+        order = _row_order(time, columns["mesh_a"], columns["tri_a"], columns["mesh_b"], columns["tri_b"])
+        time = time[order]
+        columns = {name: column[order] for name, column in columns.items()}
+    return CollisionResult(time=time, counters=dict(raw["counters"]), **columns)
