@@ -2,7 +2,12 @@
 /// @file flat_hash_map.hpp
 /// @brief The hash map of the core's hot per-pair lookups.
 
+#include "usdksl/huge_page_allocator.hpp"
+
 #include <boost/unordered/unordered_flat_map.hpp>
+
+#include <functional>
+#include <utility>
 
 namespace usdksl {
 
@@ -12,8 +17,9 @@ namespace usdksl {
 ///        allocation per insert and a cache miss per node on every lookup
 ///        (the front index alone took 7% of that check's time in perf, and
 ///        free() 2% more). Nothing iterates these maps, so their
-///        order cannot reach an answer.
+///        order cannot reach an answer. Large tables sit on huge pages.
 template <class Key, class Value>
-using FlatHashMap = boost::unordered_flat_map<Key, Value>;
+using FlatHashMap = boost::unordered_flat_map<Key, Value, boost::hash<Key>, std::equal_to<Key>,
+                                              HugePageAllocator<std::pair<const Key, Value>>>;
 
 } // namespace usdksl

@@ -64,6 +64,18 @@ std::vector<double> breakpoint_times(const Scene& scene, const std::vector<bool>
     return times;
 }
 
+/// Triangle pairs of the mesh that share a vertex, at most: pairs around
+/// each vertex (a pair sharing an edge counts at both its vertices).
+size_t vertex_sharing_pairs_at_most(const MeshAnimation& mesh) {
+    std::vector<int32_t> triangles_at(static_cast<size_t>(mesh.vertex_count), 0);
+    for (const Triangle& triangle : mesh.triangles) {
+        for (int32_t v : triangle) ++triangles_at[static_cast<size_t>(v)];
+    }
+    size_t pairs = 0;
+    for (int32_t count : triangles_at) pairs += static_cast<size_t>(count) * static_cast<size_t>(count - 1) / 2;
+    return pairs;
+}
+
 } // namespace
 
 KineticSeparationLists::KineticSeparationLists(const Scene& scene,
@@ -79,12 +91,18 @@ KineticSeparationLists::KineticSeparationLists(const Scene& scene,
         if (!used[mesh] || scene.meshes[mesh].triangles.empty()) continue;
         trees_[mesh] = std::make_unique<StepBoxTree>(scene.plans[mesh], scene.meshes[mesh].triangles, t_begin);
     }
+    size_t sharing_pairs = 0;
     for (const auto& [ma, mb] : mesh_pairs) {
         if (!trees_[ma] || !trees_[mb]) continue;
         List list{std::min(ma, mb), std::max(ma, mb), ma == mb, {}};
         lists_.push_back(std::move(list));
         margin_.push_back(scene.contact_distance(ma, mb, thickness));
+        if (ma == mb) sharing_pairs += vertex_sharing_pairs_at_most(scene.meshes[ma]);
     }
+    // Every one of them may be handed over at the first step: reserved
+    // once, the array is never copied while it grows (capacity that is
+    // never written takes no memory).
+    shared_vertex_pairs_.reserve(sharing_pairs);
 }
 
 // ---------------------------------------------------------------- BVTT shape

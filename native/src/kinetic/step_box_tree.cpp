@@ -68,7 +68,7 @@ void StepBoxTree::fit(double t0, double t1) {
         if (topology_.is_leaf(node)) {
             const Triangle& tri = triangles[topology_.triangle[node]];
             for (int end = 0; end < 2; ++end) {
-                const std::vector<double>& points = end == 0 ? begin_points_ : end_points_;
+                const HugeVector<double>& points = end == 0 ? begin_points_ : end_points_;
                 for (int axis = 0; axis < 3; ++axis) {
                     const double x = points[3 * tri[0] + axis], y = points[3 * tri[1] + axis],
                                  z = points[3 * tri[2] + axis];

@@ -188,19 +188,19 @@ private:
 
     std::vector<std::unique_ptr<StepBoxTree>> trees_;  // per mesh, null when unused
     std::vector<List> lists_;
-    ChunkedVector<Entry, 14> entries_;
+    ChunkedVector<Entry> entries_;
     std::vector<int32_t> free_entries_;
     /// Per entry slot: the first step whose update may find work for it
     /// (the step after the one it was last brought up to date in, or its
     /// quiet_until when later; never for a free slot). The steps scan this
     /// array, not the entries, most of which sleep or lie free.
-    std::vector<int32_t> wake_step_;
+    HugeVector<int32_t> wake_step_;
     std::vector<double> margin_;  // per list: contact distance of its two meshes
     /// tested_until of leaf pairs whose entry was removed from the front, so a
     /// pair that returns does not run its narrow phase on the same steps again.
     FlatHashMap<uint64_t, double> leaf_tested_until_;
-    ChunkedVector<ClearanceRun, 11> clearance_runs_;
-    std::vector<SharedVertexPair> shared_vertex_pairs_;
+    ChunkedVector<ClearanceRun> clearance_runs_;
+    HugeVector<SharedVertexPair> shared_vertex_pairs_;
     std::vector<int32_t> free_clearance_runs_;
 };
 

@@ -6,6 +6,7 @@
 
 #include "usdksl/broad_phase/bvh_topology.hpp"
 #include "usdksl/flightplan/flightplans.hpp"
+#include "usdksl/huge_page_allocator.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -87,12 +88,12 @@ private:
     const Flightplans* plans_;
     const std::vector<Triangle>* triangles_;
     BvhTopology topology_;
-    std::vector<StepBox> boxes_;
+    HugeVector<StepBox> boxes_;
     std::vector<double> box_margin_;
     std::vector<double> extent_;
     /// Vertex positions (x, y, z per vertex) at the begin and end of the
     /// step; the end of one step is the begin of the next.
-    std::vector<double> begin_points_, end_points_;
+    HugeVector<double> begin_points_, end_points_;
     double fitted_end_;
     /// record_travel(): positions at the end of the last recorded step, each
     /// vertex's cursor and travel over the step being recorded, and per node
@@ -101,7 +102,7 @@ private:
     std::vector<int64_t> ahead_segment_;
     std::vector<double> ahead_moved_;
     double ahead_end_ = -std::numeric_limits<double>::infinity();
-    std::vector<float> node_travel_;
+    HugeVector<float> node_travel_;
     bool still_;  // no vertex ever moves: the first fit holds for every step
     bool fitted_ = false;
 };
