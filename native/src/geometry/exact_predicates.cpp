@@ -44,6 +44,10 @@ int orient2d(const Point2& a, const Point2& b, const Point2& c) {
     const double det = left - right;
     const double bound = ORIENT2D_FILTER_BOUND * (std::abs(left) + std::abs(right));
     if (det > bound || -det > bound) return sign_of(det);
+    // A product with a zero factor is exactly zero (a difference of doubles
+    // is zero only for equal ones): points on an axis-parallel line, such as
+    // a flat cloth seen along an axis of its plane, need no expansions.
+    if ((a.x == c.x || b.y == c.y) && (a.y == c.y || b.x == c.x)) return 0;
     // det2(a-c, b-c) = det2(a,b) - det2(c,b) - det2(a,c): exact in the raw coordinates.
     expansion::ExactSum sum;
     add_det2(sum, a, b, 1.0);

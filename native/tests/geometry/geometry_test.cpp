@@ -11,6 +11,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <random>
 
 using namespace usdksl;
 
@@ -22,6 +24,28 @@ TEST(ExactPredicates, Orient3dSignsAndPermutations) {
     EXPECT_EQ(below, -above);
     EXPECT_EQ(orient3d(b, a, c, Vec3(0, 0, 1)), -above) << "swapping two points flips the sign";
     EXPECT_EQ(orient3d(a, b, c, Vec3(0.25, 0.5, 0)), 0);
+}
+
+TEST(ExactPredicates, Orient2dOnSharedCoordinatesMatchesIntegerDeterminants) {
+    // Small integer coordinates, many shared: integer arithmetic gives the
+    // exact sign. The zeros where points share an x or a y are the cases the
+    // shortcut on equal coordinates decides (a case where only one product
+    // vanishes never reaches it: the float filter decides that one).
+    std::mt19937_64 random(11);
+    int zeros = 0, signs = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        int64_t v[6];
+        for (int64_t& x : v) x = static_cast<int64_t>(random() % 3);
+        const Point2 a{static_cast<double>(v[0]), static_cast<double>(v[1])};
+        const Point2 b{static_cast<double>(v[2]), static_cast<double>(v[3])};
+        const Point2 c{static_cast<double>(v[4]), static_cast<double>(v[5])};
+        const int64_t det = (v[0] - v[4]) * (v[3] - v[5]) - (v[1] - v[5]) * (v[2] - v[4]);
+        const int expected = det > 0 ? 1 : det < 0 ? -1 : 0;
+        ASSERT_EQ(orient2d(a, b, c), expected) << "trial " << trial;
+        (expected == 0 ? zeros : signs) += 1;
+    }
+    EXPECT_GT(zeros, 1000);
+    EXPECT_GT(signs, 1000);
 }
 
 TEST(ExactPredicates, Orient3dDecidesOneUlpOffThePlane) {
