@@ -68,7 +68,16 @@ def test_the_writable_folder_probe_is_never_left_behind(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_outside_a_run_a_held_back_ctrl_c_is_a_keyboard_interrupt_after_the_block(tmp_path):
+@pytest.fixture
+def default_ctrl_c():
+    """Python's own SIGINT handler for the test: a shell starts background jobs with SIGINT ignored, and
+    an ignored signal is never held back (nor raised) outside a run."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_outside_a_run_a_held_back_ctrl_c_is_a_keyboard_interrupt_after_the_block(tmp_path, default_ctrl_c):
     done = []
     with pytest.raises(KeyboardInterrupt):
         with deferred_stops():
