@@ -291,6 +291,7 @@ int64_t KineticSeparationLists::quiet_until(const List& list, int32_t a, int32_t
 
 int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t b, const NodePair* father,
                                              bool overlapping_leaf) {
+    if (overlapping_leaf && hand_over_if_sharing_vertex(list_id, a, b)) return -1;
     int32_t id;
     if (!free_entries_.empty()) {
         id = free_entries_.back();
@@ -340,6 +341,33 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
         return -1;
     }
     return id;
+}
+
+bool KineticSeparationLists::hand_over_if_sharing_vertex(int32_t list_id, int32_t a, int32_t b) {
+    const List& list = lists_[list_id];
+    if (!list.self || !both_leaves(list, a, b)) return false;
+    const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[a];
+    const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[b];
+    if (!share_vertex(list.mesh_a, tri_a, tri_b)) return false;
+    // What an entry would go through (create_entry, cover, done_with,
+    // remove_entry), without its slot and two visits to the front's index.
+    worked();
+    double tested_until = kNothingTested;
+    const auto saved = leaf_tested_until_.find(tester_key(list, a, b));
+    if (saved != leaf_tested_until_.end()) {
+        tested_until = saved->second;
+        leaf_tested_until_.erase(saved);
+    }
+    if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b) || !(tested_until < t_end_)) return true;
+    SharedVertexPair pair{};
+    pair.tested_until = tested_until;
+    pair.list = list_id;
+    pair.tri_a = tri_a;
+    pair.tri_b = tri_b;
+    pair.backoff = 1;
+    pair.static_pending = initializing_;
+    shared_vertex_pairs_.push_back(pair);
+    return true;
 }
 
 bool KineticSeparationLists::done_with(const Entry& e) const {

@@ -142,6 +142,10 @@ private:
     /// vertex, handed over to shared_vertex_pairs_. Such an entry leaves the
     /// front: its fathers always meet (the leaves' boxes share a vertex).
     bool done_with(const Entry& entry) const;
+    /// True when (a, b) are self leaves whose triangles share a vertex: then
+    /// the pair goes straight to shared_vertex_pairs_ (unless settled), as
+    /// an entry for it would, and no entry is made.
+    bool hand_over_if_sharing_vertex(int32_t list, int32_t a, int32_t b);
     void expand(int32_t list, int32_t a, int32_t b);
     void remove_descendants(int32_t list, int32_t a, int32_t b);
     /// Brings one entry created in an earlier step up to the current step.
