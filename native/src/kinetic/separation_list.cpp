@@ -358,7 +358,18 @@ bool KineticSeparationLists::hand_over_if_sharing_vertex(int32_t list_id, int32_
         tested_until = saved->second;
         leaf_tested_until_.erase(saved);
     }
-    if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b) || !(tested_until < t_end_)) return true;
+    if (!tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b)) {
+        follow_shared_vertex_pair(list_id, tri_a, tri_b, tested_until);
+    }
+    return true;
+}
+
+void KineticSeparationLists::follow_shared_vertex_pair(int32_t list_id, int32_t tri_a, int32_t tri_b,
+                                                       double tested_until) {
+    // Leaves that share a vertex never part: they follow every step from
+    // now on, outside the front. Their fathers always meet, so the pair
+    // never comes back to be handed over twice.
+    if (!(tested_until < t_end_)) return;
     SharedVertexPair pair{};
     pair.tested_until = tested_until;
     pair.list = list_id;
@@ -367,7 +378,6 @@ bool KineticSeparationLists::hand_over_if_sharing_vertex(int32_t list_id, int32_
     pair.backoff = 1;
     pair.static_pending = initializing_;
     shared_vertex_pairs_.push_back(pair);
-    return true;
 }
 
 bool KineticSeparationLists::done_with(const Entry& e) const {
@@ -429,19 +439,7 @@ void KineticSeparationLists::cover(Entry& e) {
     const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[e.a];
     const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[e.b];
     if (e.permanent) {
-        // Leaves that share a vertex never part: they follow every step from
-        // now on, outside the front (done_with). Their fathers always meet,
-        // so the pair never comes back to be handed over twice.
-        if (e.tested_until < t_end_) {
-            SharedVertexPair pair{};
-            pair.tested_until = e.tested_until;
-            pair.list = e.list;
-            pair.tri_a = tri_a;
-            pair.tri_b = tri_b;
-            pair.backoff = 1;
-            pair.static_pending = initializing_;
-            shared_vertex_pairs_.push_back(pair);
-        }
+        follow_shared_vertex_pair(e.list, tri_a, tri_b, e.tested_until);
         return;
     }
     const double until = step_end_;

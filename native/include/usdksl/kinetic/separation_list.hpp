@@ -146,6 +146,9 @@ private:
     /// the pair goes straight to shared_vertex_pairs_ (unless settled), as
     /// an entry for it would, and no entry is made.
     bool hand_over_if_sharing_vertex(int32_t list, int32_t a, int32_t b);
+    /// Appends the triangle pair to shared_vertex_pairs_, unless its narrow
+    /// phase already covered the window (tested_until, time codes).
+    void follow_shared_vertex_pair(int32_t list, int32_t tri_a, int32_t tri_b, double tested_until);
     void expand(int32_t list, int32_t a, int32_t b);
     void remove_descendants(int32_t list, int32_t a, int32_t b);
     /// Brings one entry created in an earlier step up to the current step.
