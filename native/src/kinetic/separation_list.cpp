@@ -319,17 +319,11 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     if (both_leaves(list, a, b)) {
         const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[a];
         const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[b];
-        e.permanent = list.self && share_vertex(list.mesh_a, tri_a, tri_b);
-        const auto saved = leaf_tested_until_.find(tester_key(list, a, b));
-        if (saved != leaf_tested_until_.end()) {
-            e.tested_until = saved->second;
-            leaf_tested_until_.erase(saved);
-        }
+        e.tested_until = take_saved_tested_until(list, a, b);
         if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b)) {
             e.inert = true;
         } else if (overlapping_leaf) {
-            // Leaves sharing a vertex take their static test with their first step.
-            if (initializing_ && !e.permanent && !clear_at_begin(e) &&
+            if (initializing_ && !clear_at_begin(e) &&
                 tester_.test_static(list.mesh_a, tri_a, list.mesh_b, tri_b, t_begin_)) {
                 e.inert = true;
             }
@@ -349,40 +343,32 @@ bool KineticSeparationLists::hand_over_if_sharing_vertex(int32_t list_id, int32_
     const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[a];
     const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[b];
     if (!share_vertex(list.mesh_a, tri_a, tri_b)) return false;
-    // What an entry would go through (create_entry, cover, done_with,
-    // remove_entry), without its slot and two visits to the front's index.
+    // Leaves that share a vertex never part: they follow every step from now
+    // on here, outside the front, without an entry slot and two visits to
+    // the front's index (the 1M tablecloth has 12M such pairs).
     worked();
-    double tested_until = kNothingTested;
-    const auto saved = leaf_tested_until_.find(tester_key(list, a, b));
-    if (saved != leaf_tested_until_.end()) {
-        tested_until = saved->second;
-        leaf_tested_until_.erase(saved);
-    }
-    if (!tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b)) {
-        follow_shared_vertex_pair(list_id, tri_a, tri_b, tested_until);
-    }
-    return true;
-}
-
-void KineticSeparationLists::follow_shared_vertex_pair(int32_t list_id, int32_t tri_a, int32_t tri_b,
-                                                       double tested_until) {
-    // Leaves that share a vertex never part: they follow every step from
-    // now on, outside the front. Their fathers always meet, so the pair
-    // never comes back to be handed over twice.
-    if (!(tested_until < t_end_)) return;
+    const double tested_until = take_saved_tested_until(list, a, b);
+    if (tester_.settled(list.mesh_a, tri_a, list.mesh_b, tri_b) || !(tested_until < t_end_)) return true;
     SharedVertexPair pair{};
     pair.tested_until = tested_until;
     pair.list = list_id;
     pair.tri_a = tri_a;
     pair.tri_b = tri_b;
     pair.backoff = 1;
-    pair.static_pending = initializing_;
+    pair.static_pending = initializing_;  // its static test comes with its first step
     shared_vertex_pairs_.push_back(pair);
+    return true;
 }
 
-bool KineticSeparationLists::done_with(const Entry& e) const {
-    return e.inert || (e.permanent && e.overlapping_leaf);
+double KineticSeparationLists::take_saved_tested_until(const List& list, int32_t a, int32_t b) {
+    const auto saved = leaf_tested_until_.find(tester_key(list, a, b));
+    if (saved == leaf_tested_until_.end()) return kNothingTested;
+    const double tested_until = saved->second;
+    leaf_tested_until_.erase(saved);
+    return tested_until;
 }
+
+bool KineticSeparationLists::done_with(const Entry& e) const { return e.inert; }
 
 void KineticSeparationLists::remove_entry(int32_t id, bool keep_tested) {
     Entry& e = entries_[id];
@@ -438,10 +424,6 @@ void KineticSeparationLists::cover(Entry& e) {
     const List& list = lists_[e.list];
     const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[e.a];
     const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[e.b];
-    if (e.permanent) {
-        follow_shared_vertex_pair(e.list, tri_a, tri_b, e.tested_until);
-        return;
-    }
     const double until = step_end_;
     if (e.tested_until >= until) return;
     // Only this entry tests its triangle pair, and a settled pair became
@@ -624,7 +606,7 @@ void KineticSeparationLists::update(int32_t id) {
     if (e.overlapping_leaf) {
         // Covered ahead already: whether the leaves parted is asked when
         // the covered steps run out (covering longer is never wrong).
-        if (e.permanent || e.tested_until >= step_end_) return;
+        if (e.tested_until >= step_end_) return;
         if (apart(list, e.a, e.b, LEAF_HYSTERESIS)) {
             ++counters_.leaves_do_not_overlap_events;
             e.overlapping_leaf = false;

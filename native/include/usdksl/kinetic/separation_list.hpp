@@ -85,7 +85,6 @@ private:
         int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1
         bool overlapping_leaf = false;
         bool inert = false;          // leaf pair whose triangle pair is settled
-        bool permanent = false;      // self leaf pair sharing a vertex: its boxes always overlap
         bool alive = false;
     };
     struct NodePair { int32_t a, b; };
@@ -133,29 +132,28 @@ private:
     void measure_travel();
 
     // Front maintenance
-    /// Returns the entry, or -1 when the pair is done with at once (see done_with).
+    /// Returns the entry, or -1 when the pair takes none: handed over
+    /// (hand_over_if_sharing_vertex) or done with at once (see done_with).
     int32_t create_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, bool overlapping_leaf);
     /// `keep_tested`: a leaf pair's tested_until is saved for its return.
     void remove_entry(int32_t id, bool keep_tested = true);
     /// True when nothing under the entry can ever need work again in the
-    /// front: a settled (inert) leaf pair, or overlapping leaves sharing a
-    /// vertex, handed over to shared_vertex_pairs_. Such an entry leaves the
-    /// front: its fathers always meet (the leaves' boxes share a vertex).
+    /// front: a settled (inert) leaf pair.
     bool done_with(const Entry& entry) const;
     /// True when (a, b) are self leaves whose triangles share a vertex: then
-    /// the pair goes straight to shared_vertex_pairs_ (unless settled), as
-    /// an entry for it would, and no entry is made.
+    /// the pair goes to shared_vertex_pairs_ (unless settled or covered to
+    /// the window's end) and never into the front. Such leaves' boxes always
+    /// meet, so their fathers do too and the pair never comes back.
     bool hand_over_if_sharing_vertex(int32_t list, int32_t a, int32_t b);
-    /// Appends the triangle pair to shared_vertex_pairs_, unless its narrow
-    /// phase already covered the window (tested_until, time codes).
-    void follow_shared_vertex_pair(int32_t list, int32_t tri_a, int32_t tri_b, double tested_until);
+    /// tested_until saved for the leaf pair (a, b) when its entry left the
+    /// front, taken out of leaf_tested_until_; -1e300 when none was saved.
+    double take_saved_tested_until(const List& list, int32_t a, int32_t b);
     void expand(int32_t list, int32_t a, int32_t b);
     void remove_descendants(int32_t list, int32_t a, int32_t b);
     /// Brings one entry created in an earlier step up to the current step.
     void update(int32_t id);
     /// Runs the narrow phase on the leaf pair's flightplan steps that the
-    /// current step reaches and were not tested yet; leaves that share a
-    /// vertex are handed over to shared_vertex_pairs_ instead.
+    /// current step reaches and were not tested yet.
     void cover(Entry& entry);
     /// Brings every pair of shared_vertex_pairs_ to the current step's end:
     /// its certificate clears the step, or the narrow phase tests it.
