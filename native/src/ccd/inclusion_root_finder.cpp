@@ -11,6 +11,7 @@
 /// rounding bound is not a contact.
 
 #include "inclusion_root_finder.hpp"
+#include "rounding_bounds.hpp"
 #include "whole_step_exclusion.hpp"
 
 #include "usdksl/ccd/ccd_constants.hpp"
@@ -165,8 +166,8 @@ public:
         const double thickness = thickness_;
         double error[3];
         for (int k = 0; k < 3; ++k) {
-            error[k] = std::max(CCD_CORNER_ERROR_FACTOR * max_abs[k], CCD_MIN_ABSOLUTE_ERROR);
-            bound_[k] = (thickness + error[k]) * CCD_BOUND_INFLATION;
+            error[k] = corner_error(max_abs[k]);
+            bound_[k] = axis_bound(thickness, error[k]);
             exact_margin_[k] = EXACT_CHECK_ERROR_MULTIPLE * error[k];
             corner_error_[k] = error[k];
             vanishes_[k] = true;
@@ -369,17 +370,11 @@ public:
         const double scale = n.cwiseAbs().maxCoeff();
         if (!(scale > 0.0) || !std::isfinite(scale)) return;
         const Vec3 unit_ish = n / scale;
-        // |computed n.F - exact n.F| <= sum |n_k| (err_k + gamma_3 (|F_k| + err_k)),
-        // with |F_k| <= 6 max_abs_k (the corner magnitude bound), gamma_3 < 4u.
-        double error_bound = 0.0;
-        for (int k = 0; k < 3; ++k)
-            error_bound += std::abs(unit_ish[k]) *
-                           (error[k] + 4.0 * DOUBLE_UNIT_ROUNDOFF * (6.0 * max_abs[k] + error[k]));
         const double length =
             (kind == DirectionBound::Cube ? unit_ish.lpNorm<1>() : unit_ish.norm()) * CCD_BOUND_INFLATION;
         Direction& d = directions_[direction_count_++];
         for (int k = 0; k < 3; ++k) d.n[k] = unit_ish[k];
-        d.bound = (thickness * length + error_bound) * CCD_BOUND_INFLATION;
+        d.bound = direction_bound(unit_ish, length, thickness, error, max_abs);
     }
 
     bool excluded_by_directions(const double corner[2][2][2][3], double projected[][8], int from) const {

@@ -4,6 +4,8 @@
 
 #include "whole_step_exclusion.hpp"
 
+#include "rounding_bounds.hpp"
+
 #include "usdksl/ccd/ccd_constants.hpp"
 
 #include <Eigen/Geometry>
@@ -70,8 +72,8 @@ bool all_beyond(const double* values, int count, double bound) {
     return above || below;
 }
 
-/// The projections on direction n exclude the thickness ball; the bound is
-/// the root search's for a fixed direction (RootSearch::add_direction).
+/// The projections on direction n exclude the thickness ball, by the root
+/// search's bound for a fixed direction.
 bool excluded_along(const Vec3& n, const StepEnd ends[2], int corners, const Bounds& bounds) {
     // Values beyond a bound of either sign share that sign; most directions
     // fail here, before the bound is worked out. (A value that clears the
@@ -89,13 +91,8 @@ bool excluded_along(const Vec3& n, const StepEnd ends[2], int corners, const Bou
     const double scale = n.cwiseAbs().maxCoeff();
     if (!(scale > 0.0) || !std::isfinite(scale)) return false;
     const Vec3 unit_ish = n / scale;
-    double error_bound = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        error_bound += std::abs(unit_ish[k]) *
-                       (bounds.error[k] + 4.0 * DOUBLE_UNIT_ROUNDOFF * (6.0 * bounds.max_abs[k] + bounds.error[k]));
-    }
-    const double bound =
-        (bounds.thickness * unit_ish.norm() * CCD_BOUND_INFLATION + error_bound) * CCD_BOUND_INFLATION;
+    const double bound = direction_bound(unit_ish, unit_ish.norm() * CCD_BOUND_INFLATION, bounds.thickness,
+                                         bounds.error, bounds.max_abs);
     double values[2 * MAX_CORNERS];
     int count = 0;
     for (int e = 0; e < 2; ++e) {
@@ -118,7 +115,7 @@ bool excluded_over_whole_step(const MultilinearDistance& f, double thickness) {
         // Also false for NaN.
         if (!(largest <= std::numeric_limits<double>::max())) return false;
         bounds.max_abs[k] = largest;
-        bounds.error[k] = std::max(CCD_CORNER_ERROR_FACTOR * largest, CCD_MIN_ABSOLUTE_ERROR);
+        bounds.error[k] = corner_error(largest);
     }
     const StepEnd ends[2] = {step_end(f.at_start, f.kind), step_end(f.at_end, f.kind)};
     const int corners = f.kind == PrimitivePairKind::VertexFace ? 3 : 4;
@@ -128,7 +125,7 @@ bool excluded_over_whole_step(const MultilinearDistance& f, double thickness) {
         for (int e = 0; e < 2; ++e) {
             for (int c = 0; c < corners; ++c) values[count++] = ends[e].corner[c][k];
         }
-        if (all_beyond(values, count, (bounds.thickness + bounds.error[k]) * CCD_BOUND_INFLATION)) return true;
+        if (all_beyond(values, count, axis_bound(bounds.thickness, bounds.error[k]))) return true;
     }
     for (const StepEnd& end : ends) {
         if (excluded_along(end.normal, ends, corners, bounds)) return true;
