@@ -253,29 +253,50 @@ void KineticSeparationLists::measure_travel() {
 
 int64_t KineticSeparationLists::quiet_until(const List& list, int32_t a, int32_t b, const StepBox& ba,
                                             const StepBox& bb, double margin) const {
-    double gap = 0.0;  // widest separation along one axis at the step's end
+    // Lower bounds of the six separations (b above a, a above b per axis)
+    // at the end of the last step judged; the boxes stay apart during a step
+    // while one of them is positive at both its ends (each is linear across it).
+    double gap[3][2];
+    double widest = 0.0;
     for (int axis = 0; axis < 3; ++axis) {
-        gap = std::max({gap, bb.lo[1][axis] - ba.hi[1][axis] - margin, ba.lo[1][axis] - bb.hi[1][axis] - margin});
+        gap[axis][0] = bb.lo[1][axis] - ba.hi[1][axis] - margin;
+        gap[axis][1] = ba.lo[1][axis] - bb.hi[1][axis] - margin;
+        widest = std::max({widest, gap[axis][0], gap[axis][1]});
     }
     const int64_t steps = static_cast<int64_t>(times_.size()) - 1;
     int64_t next = step_index_ + 1;
-    if (!(gap > 0.0) || next >= steps) return next;
-    // Each box side moves no more than the vertices under its node: the gap
-    // cannot close before the two nodes' travel since this step's end
-    // exceeds it. Over the steps the trees recorded, each node's own...
+    if (!(widest > 0.0) || next >= steps) return next;
+    // Each box side moves as the vertices under its node: over the steps the
+    // trees recorded, a separation shrinks by no more than how far the lower
+    // node's shift may rise beyond the upper one's (both radii included)...
     const StepBoxTree& tree_a = *trees_[list.mesh_a];
     const StepBoxTree& tree_b = *trees_[list.mesh_b];
     const int64_t recorded_end = std::min(steps, next + NODE_TRAVEL_AHEAD_STEPS);
     for (; next < recorded_end; ++next) {
-        gap -= tree_a.travel(a, next) + tree_b.travel(b, next);
-        if (!(gap > 0.0)) return next;
+        const NodeShift& sa = tree_a.shift(a, next);
+        const NodeShift& sb = tree_b.shift(b, next);
+        const double spread = static_cast<double>(sa.radius) + sb.radius;
+        bool apart_throughout = false;
+        widest = -std::numeric_limits<double>::infinity();
+        for (int axis = 0; axis < 3; ++axis) {
+            const double rise = static_cast<double>(sa.center[axis]) - sb.center[axis];  // of a against b
+            for (int side = 0; side < 2; ++side) {
+                const double after = gap[axis][side] - ((side == 0 ? rise : -rise) + spread);
+                apart_throughout = apart_throughout || (gap[axis][side] > 0.0 && after > 0.0);
+                gap[axis][side] = after;
+                widest = std::max(widest, after);
+            }
+        }
+        if (!apart_throughout) return next;
     }
+    const double gap_left = widest;
     if (next >= steps) return steps;
+    if (!(gap_left > 0.0)) return next;
     // ... and beyond, their meshes' fastest vertex.
     const std::vector<double>& ta = travel_[list.mesh_a];
     const std::vector<double>& tb = travel_[list.mesh_b];
     const auto closes_by = [&](int64_t end) {  // travel over steps next..end-1
-        return (ta[end] - ta[next]) + (tb[end] - tb[next]) >= gap;
+        return (ta[end] - ta[next]) + (tb[end] - tb[next]) >= gap_left;
     };
     int64_t low = next, high = steps;  // steps next..low-1 are safe; find the first end that closes
     if (!closes_by(high)) return steps;

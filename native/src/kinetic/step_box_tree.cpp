@@ -99,15 +99,38 @@ void StepBoxTree::fit(double t0, double t1) {
     }
 }
 
+namespace {
+
+/// The shift whose interval along each axis holds [low, high] (scene units),
+/// widened for the rounding of the displacements and of single precision.
+NodeShift enclosing_shift(const double low[3], const double high[3]) {
+    NodeShift shift;
+    double radius = 0.0, scale = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        shift.center[axis] = static_cast<float>(0.5 * (low[axis] + high[axis]));
+        const double center = shift.center[axis];
+        radius = std::max({radius, high[axis] - center, center - low[axis]});
+        scale = std::max({scale, std::abs(low[axis]), std::abs(high[axis])});
+    }
+    radius += NODE_TRAVEL_ROUNDING * scale;
+    // Single precision rounds to nearest: step up past the double.
+    float stored = static_cast<float>(radius);
+    if (static_cast<double>(stored) < radius) stored = std::nextafter(stored, std::numeric_limits<float>::infinity());
+    shift.radius = stored;
+    return shift;
+}
+
+} // namespace
+
 void StepBoxTree::record_travel(int64_t step, double t0, double t1) {
     if (still_) return;
     const Flightplans& plans = *plans_;
     const int32_t n = plans.vertex_count();
     const int32_t node_count = topology_.node_count();
-    if (node_travel_.empty()) {
-        node_travel_.assign(static_cast<size_t>(node_count) * NODE_TRAVEL_AHEAD_STEPS, 0.0f);
+    if (node_shift_.empty()) {
+        node_shift_.assign(static_cast<size_t>(node_count) * NODE_TRAVEL_AHEAD_STEPS, NodeShift{});
         ahead_points_.resize(static_cast<size_t>(n) * 3);
-        ahead_moved_.resize(static_cast<size_t>(n));
+        ahead_moved_.resize(static_cast<size_t>(n) * 3);
         ahead_segment_.resize(static_cast<size_t>(n));
         for (int32_t v = 0; v < n; ++v) ahead_segment_[static_cast<size_t>(v)] = plans.key_begin(v);
     }
@@ -120,37 +143,45 @@ void StepBoxTree::record_travel(int64_t step, double t0, double t1) {
     if (t0 != ahead_end_) {
         for (int32_t v = 0; v < n; ++v) position(v, t0, &ahead_points_[3 * static_cast<size_t>(v)]);
     }
-    // Per vertex, the most it moves along one axis (linear over the step: end minus begin).
+    // Per vertex, its displacement (linear over the step: end minus begin).
     std::vector<double>& moved = ahead_moved_;
     for (int32_t v = 0; v < n; ++v) {
         double at_end[3];
         position(v, t1, at_end);
         double* at_begin = &ahead_points_[3 * static_cast<size_t>(v)];
-        double most = 0.0;
         for (int axis = 0; axis < 3; ++axis) {
-            most = std::max(most, std::abs(at_end[axis] - at_begin[axis]));
+            moved[3 * static_cast<size_t>(v) + axis] = at_end[axis] - at_begin[axis];
             at_begin[axis] = at_end[axis];
         }
-        moved[static_cast<size_t>(v)] = most;
     }
     ahead_end_ = t1;
     const size_t slot = static_cast<size_t>(step % NODE_TRAVEL_AHEAD_STEPS);
-    const auto stored = [&](int32_t node) -> float& {
-        return node_travel_[static_cast<size_t>(node) * NODE_TRAVEL_AHEAD_STEPS + slot];
+    const auto stored = [&](int32_t node) -> NodeShift& {
+        return node_shift_[static_cast<size_t>(node) * NODE_TRAVEL_AHEAD_STEPS + slot];
     };
     // Children come after their parent, so a reverse sweep is bottom-up.
     for (int32_t node = node_count - 1; node >= 0; --node) {
-        double most;
+        double low[3], high[3];
         if (topology_.is_leaf(node)) {
             const Triangle& tri = (*triangles_)[topology_.triangle[node]];
-            most = std::max({moved[tri[0]], moved[tri[1]], moved[tri[2]]}) * (1.0 + NODE_TRAVEL_ROUNDING);
-            // Single precision rounds to nearest: step up past the double.
-            float f = static_cast<float>(most);
-            if (static_cast<double>(f) < most) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-            stored(node) = f;
+            for (int axis = 0; axis < 3; ++axis) {
+                const double x = moved[3 * static_cast<size_t>(tri[0]) + axis],
+                             y = moved[3 * static_cast<size_t>(tri[1]) + axis],
+                             z = moved[3 * static_cast<size_t>(tri[2]) + axis];
+                low[axis] = std::min({x, y, z});
+                high[axis] = std::max({x, y, z});
+            }
         } else {
-            stored(node) = std::max(stored(topology_.left[node]), stored(topology_.right[node]));
+            const NodeShift& l = stored(topology_.left[node]);
+            const NodeShift& r = stored(topology_.right[node]);
+            for (int axis = 0; axis < 3; ++axis) {
+                low[axis] = std::min(static_cast<double>(l.center[axis]) - l.radius,
+                                     static_cast<double>(r.center[axis]) - r.radius);
+                high[axis] = std::max(static_cast<double>(l.center[axis]) + l.radius,
+                                      static_cast<double>(r.center[axis]) + r.radius);
+            }
         }
+        stored(node) = enclosing_shift(low, high);
     }
 }
 

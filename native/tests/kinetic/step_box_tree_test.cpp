@@ -1,7 +1,9 @@
 /// @file step_box_tree_test.cpp
 /// @brief Throughout every step between consecutive breakpoints, each moving
 ///        box of the step box tree encloses the vertices under it, probed at
-///        many times inside each step.
+///        many times inside each step; each node's recorded shift holds the
+///        displacement of every vertex under it, and is narrow for a mesh
+///        that moves rigidly however far it travels.
 
 #include "animations.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
@@ -78,7 +80,63 @@ int check_every_step(const MeshAnimation& mesh, bool merge) {
     return steps;
 }
 
+/// Records every step of the mesh and checks, for each node and each of the
+/// last NODE_TRAVEL_AHEAD_STEPS recorded steps, that every vertex under it
+/// moved within its shift along each axis. Returns the widest radius
+/// relative to the largest displacement (how tight the shifts are).
+double check_shifts(const MeshAnimation& mesh, bool merge) {
+    const Flightplans plans(mesh, merge);
+    StepBoxTree tree(plans, mesh.triangles, mesh.times.front());
+    const auto under = vertices_under(tree.topology(), mesh.triangles);
+    std::set<double> breakpoints;
+    for (int32_t v = 0; v < plans.vertex_count(); ++v) {
+        for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) breakpoints.insert(plans.key_time(k));
+    }
+    const std::vector<double> times(breakpoints.begin(), breakpoints.end());
+    const int64_t steps = static_cast<int64_t>(times.size()) - 1;
+    double widest_radius = 0.0, largest_move = 0.0;
+    for (int64_t k = 0; k < steps; ++k) {
+        tree.record_travel(k, times[k], times[k + 1]);
+        for (int64_t back = 0; back < NODE_TRAVEL_AHEAD_STEPS && back <= k; ++back) {
+            const int64_t step = k - back;  // still remembered
+            for (int32_t node = 0; node < tree.topology().node_count(); ++node) {
+                const NodeShift& shift = tree.shift(node, step);
+                widest_radius = std::max(widest_radius, static_cast<double>(shift.radius));
+                for (int32_t v : under[node]) {
+                    for (int axis = 0; axis < 3; ++axis) {
+                        const double moved = plans.coord(v, axis, times[step + 1]) - plans.coord(v, axis, times[step]);
+                        largest_move = std::max(largest_move, std::abs(moved));
+                        EXPECT_LE(std::abs(moved - shift.center[axis]), shift.radius)
+                            << "vertex " << v << " leaves the shift of node " << node << " in step " << step;
+                    }
+                }
+            }
+        }
+    }
+    return largest_move > 0.0 ? widest_radius / largest_move : widest_radius;
+}
+
 } // namespace
+
+TEST(StepBoxTree, ShiftsHoldEveryVertexDisplacementOfACurvedCloth) {
+    EXPECT_GT(check_shifts(animations::folding_cloth(5, 16), false), 0.01);
+}
+
+TEST(StepBoxTree, ShiftsHoldEveryVertexDisplacementOnStaggeredMergedBreakpoints) {
+    check_shifts(animations::random_walk(45, 20, 99, 0.0), true);
+    check_shifts(animations::random_walk(45, 20, 7, 1e-3), false);
+}
+
+TEST(StepBoxTree, ShiftsOfARigidlyFallingSheetAreNarrow) {
+    // Falling and drifting far per step (a card in free fall): the shift's
+    // radius stays at the rounding allowance, so two such sheets falling
+    // together are seen to keep their gap.
+    const MeshAnimation falling = animations::sheet(6, 12, [](double x, double z, int k) {
+        const double t = static_cast<double>(k);
+        return Vec3(x + 3.0 * t, 100.0 - 4.9 * t * t, z - 0.5 * t);
+    });
+    EXPECT_LT(check_shifts(falling, false), 1e-4);
+}
 
 TEST(StepBoxTree, BoxesEncloseTheirVerticesThroughoutEveryStepOfACurvedCloth) {
     EXPECT_EQ(check_every_step(animations::folding_cloth(5, 16), false), 15);

@@ -19,15 +19,26 @@ namespace usdksl {
 ///        box sides inside a step rounds by a few ulps.
 constexpr double STEP_BOX_ROUNDING_PER_LEVEL = 1e-12;
 
-/// @brief Steps after the fitted one for which the tree knows how far each
-///        node's vertices move (StepBoxTree::travel): how long a pair of
+/// @brief Steps after the fitted one for which the tree knows where each
+///        node's vertices move (StepBoxTree::shift): how long a pair of
 ///        boxes apart can be left alone is judged on its own nodes' motion
 ///        over these steps, on its meshes' fastest vertex beyond.
 constexpr int64_t NODE_TRAVEL_AHEAD_STEPS = 8;
 
-/// @brief Relative allowance by which a node's travel is inflated (as the
+/// @brief Relative allowance by which a node's shift is widened (as the
 ///        per-mesh travel is, and for storing it in single precision).
 constexpr double NODE_TRAVEL_ROUNDING = 1e-6;
+
+/// @brief Where the vertices under a node move during one recorded step
+///        (scene units): along each axis every vertex's displacement lies
+///        within [center - radius, center + radius]. Two nodes that move
+///        together (a card falling onto a falling card, a fold carried by the
+///        cloth) close their gap only by the difference of their centers plus
+///        both radii, however far they travel.
+struct NodeShift {
+    float center[3];
+    float radius;
+};
 
 /// @brief A box at both ends of a step (scene units), grown by its node's
 ///        rounding margin. Between the ends each
@@ -70,18 +81,18 @@ public:
     double extent(int32_t node) const { return extent_[node]; }
 
     /// @brief Records step number `step` = [t0, t1] (time codes; steps come
-    ///        in order, every vertex linear on each) for travel(): the most
-    ///        any vertex under each node moves along one axis during it.
-    ///        A tree keeps NODE_TRAVEL_AHEAD_STEPS steps: recording step s
-    ///        forgets step s - NODE_TRAVEL_AHEAD_STEPS.
+    ///        in order, every vertex linear on each) for shift(): where the
+    ///        vertices under each node move during it. A tree keeps
+    ///        NODE_TRAVEL_AHEAD_STEPS steps: recording step s forgets step
+    ///        s - NODE_TRAVEL_AHEAD_STEPS.
     void record_travel(int64_t step, double t0, double t1);
 
-    /// @brief Scene units (an upper bound) that no vertex under `node` moves
-    ///        along any axis during recorded step `step` (one of the last
-    ///        NODE_TRAVEL_AHEAD_STEPS recorded).
-    double travel(int32_t node, int64_t step) const {
-        return still_ ? 0.0 : node_travel_[static_cast<size_t>(node) * NODE_TRAVEL_AHEAD_STEPS +
-                                           static_cast<size_t>(step % NODE_TRAVEL_AHEAD_STEPS)];
+    /// @brief The shift of the vertices under `node` during recorded step
+    ///        `step` (one of the last NODE_TRAVEL_AHEAD_STEPS recorded).
+    const NodeShift& shift(int32_t node, int64_t step) const {
+        static constexpr NodeShift kStill{{0.0f, 0.0f, 0.0f}, 0.0f};
+        return still_ ? kStill : node_shift_[static_cast<size_t>(node) * NODE_TRAVEL_AHEAD_STEPS +
+                                             static_cast<size_t>(step % NODE_TRAVEL_AHEAD_STEPS)];
     }
 
 private:
@@ -96,13 +107,13 @@ private:
     HugeVector<double> begin_points_, end_points_;
     double fitted_end_;
     /// record_travel(): positions at the end of the last recorded step, each
-    /// vertex's cursor and travel over the step being recorded, and per node
-    /// (NODE_TRAVEL_AHEAD_STEPS slots each, by step modulo) its travel.
+    /// vertex's cursor and displacement (x y z) over the step being recorded,
+    /// and per node (NODE_TRAVEL_AHEAD_STEPS slots each, by step modulo) its shift.
     std::vector<double> ahead_points_;
     std::vector<int64_t> ahead_segment_;
     std::vector<double> ahead_moved_;
     double ahead_end_ = -std::numeric_limits<double>::infinity();
-    HugeVector<float> node_travel_;
+    HugeVector<NodeShift> node_shift_;
     bool still_;  // no vertex ever moves: the first fit holds for every step
     bool fitted_ = false;
 };
