@@ -49,7 +49,7 @@ import time
 import numpy as np
 
 EVENT_COUNTERS = ("kinetic_tree_events", "bv_overlap_events", "fathers_do_not_overlap_events",
-                  "leaves_do_not_overlap_events", "polygons_collide_events", "bv_change_events")
+                  "leaves_do_not_overlap_events", "plane_kept_steps", "polygons_collide_events", "bv_change_events")
 
 #: A method label ending in this runs with the --baseline-python interpreter (another build of usdksl).
 BASELINE_SUFFIX = "@baseline"
@@ -196,12 +196,13 @@ def is_same_answer(comparison):
 def describe(shot, method, threads, r):
     c = r["counters"]
     tests = max(1, c["narrow_phase_tests"])
-    events = sum(c[k] for k in EVENT_COUNTERS)
+    events = sum(c.get(k, 0) for k in EVENT_COUNTERS)  # a baseline build may lack newer counters
     return (f"{os.path.basename(shot):32s} {method:12s} thr={threads or 1:<2d} cpu={r['cpu']:8.2f}s "
             f"wall={r['wall']:8.2f}s tests={c['narrow_phase_tests']:>10d} us/test={1e6 * r['cpu'] / tests:6.2f} "
             f"queries={c['primitive_queries']:>10d} events={events:>9d} (tree={c['kinetic_tree_events']} "
             f"pc={c['polygons_collide_events']} bvchg={c['bv_change_events']} overlap={c['bv_overlap_events']} "
-            f"fathers={c['fathers_do_not_overlap_events']} leaves={c['leaves_do_not_overlap_events']}) "
+            f"fathers={c['fathers_do_not_overlap_events']} leaves={c['leaves_do_not_overlap_events']} "
+            f"plane={c.get('plane_kept_steps', 0)}) "
             f"confirm={c['raw_confirmations']} reject={c['raw_rejections']} windows={c.get('time_windows', 1)} "
             f"tri_pairs={r['pairs']} "
             f"face_pairs={r['face_pairs']} peak={r['peak_bytes'] / 2**20:.0f}MB "
@@ -347,7 +348,7 @@ def render_markdown(title, command, shots_done, labels, thread_counts, builds):
             c = r["counters"]
             lines.append(f"| {os.path.basename(done['shot'])} | {label} | {threads or 'default'} | {r['cpu']:.2f} | "
                          f"{r['wall']:.2f} | " + " | ".join(str(c.get(name, '')) for name in counters) +
-                         f" | {sum(c[k] for k in EVENT_COUNTERS)} | {r['face_pairs']} | "
+                         f" | {sum(c.get(k, 0) for k in EVENT_COUNTERS)} | {r['face_pairs']} | "
                          f"{r['peak_bytes'] / 2**20:.0f} |")
     lines += ["", "## Printed verdicts", "", "```"]
     for done in shots_done:

@@ -16,7 +16,8 @@ from usdksl.reading.loader import DEFORMING, STATIC
 
 #: Counter names of the KSL events (all event types of the kinetic trees and separation lists).
 KSL_EVENT_COUNTERS = ("kinetic_tree_events", "bv_overlap_events", "fathers_do_not_overlap_events",
-                      "leaves_do_not_overlap_events", "polygons_collide_events", "bv_change_events")
+                      "leaves_do_not_overlap_events", "plane_kept_steps", "polygons_collide_events",
+                      "bv_change_events")
 
 
 #: Method label -> (kind, discrete substeps). Labels are what tables and plots show.

@@ -108,6 +108,7 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     counters["bv_overlap_events"] = k.bv_overlap_events;
     counters["fathers_do_not_overlap_events"] = k.fathers_do_not_overlap_events;
     counters["leaves_do_not_overlap_events"] = k.leaves_do_not_overlap_events;
+    counters["plane_kept_steps"] = k.plane_kept_steps;
     counters["polygons_collide_events"] = k.polygons_collide_events;
     counters["bv_change_events"] = k.bv_change_events;
     counters["bv_tests"] = k.bv_tests;

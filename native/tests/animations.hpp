@@ -4,6 +4,8 @@
 
 #include "usdksl/mesh_animation.hpp"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -36,6 +38,12 @@ MeshAnimation sheet(int n, int samples, Position position) {
     }
     for (size_t t = 0; t < mesh.triangles.size(); ++t) mesh.triangle_face.push_back(static_cast<int32_t>(t));
     return mesh;
+}
+
+/// @brief A rotation that tilts a sheet out of every axis plane, so that its
+///        box overlaps whatever lies just above or below it.
+inline Eigen::Matrix3d tilt() {
+    return (Eigen::AngleAxisd(0.5, Vec3::UnitZ()) * Eigen::AngleAxisd(0.35, Vec3::UnitX())).toRotationMatrix();
 }
 
 /// @brief A sheet that waves on curves and folds its right half over its left

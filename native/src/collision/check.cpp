@@ -112,6 +112,7 @@ void add_counters(Counters& total, const Counters& part) {
     total.bv_overlap_events += part.bv_overlap_events;
     total.fathers_do_not_overlap_events += part.fathers_do_not_overlap_events;
     total.leaves_do_not_overlap_events += part.leaves_do_not_overlap_events;
+    total.plane_kept_steps += part.plane_kept_steps;
     total.polygons_collide_events += part.polygons_collide_events;
     total.bv_change_events += part.bv_change_events;
     total.bv_tests += part.bv_tests;

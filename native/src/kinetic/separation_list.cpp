@@ -1,5 +1,6 @@
 #include "usdksl/kinetic/separation_list.hpp"
 
+#include "usdksl/kinetic/node_plane.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
 #include <algorithm>
@@ -97,6 +98,10 @@ KineticSeparationLists::KineticSeparationLists(const Scene& scene,
         List list{std::min(ma, mb), std::max(ma, mb), ma == mb, {}};
         lists_.push_back(std::move(list));
         margin_.push_back(scene.contact_distance(ma, mb, thickness));
+        if (ma != mb) {
+            trees_[ma]->index_triangles_under();
+            trees_[mb]->index_triangles_under();
+        }
         if (ma == mb) sharing_pairs += vertex_sharing_pairs_at_most(scene.meshes[ma]);
     }
     // Every one of them may be handed over at the first step: reserved
@@ -399,7 +404,8 @@ void KineticSeparationLists::remove_entry(int32_t id, bool keep_tested) {
     if (keep_tested && !e.inert && e.tested_until > kNothingTested && both_leaves(list, e.a, e.b)) {
         leaf_tested_until_[tester_key(list, e.a, e.b)] = e.tested_until;
     }
-    release_clearance_run(e);
+    if (e.plane_kept) release_plane(e);
+    else release_clearance_run(e);
     e.alive = false;
     wake_step_[id] = kNeverWakes;
     free_entries_.push_back(id);
@@ -423,6 +429,12 @@ void KineticSeparationLists::expand(int32_t list_id, int32_t a, int32_t b) {
             }
         } else if (both_leaves(list, c.a, c.b)) {
             create_entry(list_id, c.a, c.b, &father, true);
+        } else if (Vec3 normal; plane_separates(list, c.a, c.b, Vec3::Zero(), normal)) {
+            const int32_t id = create_entry(list_id, c.a, c.b, &father, false);
+            if (id >= 0) {
+                keep_plane(entries_[id], normal);
+                ++counters_.plane_kept_steps;
+            }
         } else {
             expand(list_id, c.a, c.b);
         }
@@ -579,24 +591,84 @@ void KineticSeparationLists::step_shared_vertex_pairs() {
     shared_vertex_pairs_.resize(kept);
 }
 
+bool KineticSeparationLists::plane_separates(const List& list, int32_t a, int32_t b, const Vec3& previous,
+                                             Vec3& normal) const {
+    if (list.self) return false;  // nodes of one mesh may share vertices, which no plane separates
+    const StepBoxTree& tree_a = *trees_[list.mesh_a];
+    const StepBoxTree& tree_b = *trees_[list.mesh_b];
+    const auto [first_a, last_a] = tree_a.triangles_under(a);
+    const auto [first_b, last_b] = tree_b.triangles_under(b);
+    if (last_a - first_a > NODE_PLANE_MAX_TRIANGLES || last_b - first_b > NODE_PLANE_MAX_TRIANGLES) return false;
+    const double reach = node_pair_reach(tree_a, a, tree_b, b, margin_of(list), tester_.settings().tolerance);
+    return find_node_plane(tree_a, a, tree_b, b, reach, previous, normal);
+}
+
+bool KineticSeparationLists::coarsen_to_plane(int32_t id) {
+    const Entry& e = entries_[id];
+    const List& list = lists_[e.list];
+    if (list.self || e.fa < 0) return false;
+    Vec3 normal;
+    if (!plane_separates(list, e.fa, e.fb, Vec3::Zero(), normal)) return false;
+    // Ascend to the highest pair a plane keeps apart.
+    NodePair top{e.fa, e.fb};
+    NodePair up;
+    bool has_up = father_of(list, top.a, top.b, up);
+    Vec3 up_normal;
+    while (has_up && plane_separates(list, up.a, up.b, normal, up_normal)) {
+        top = up;
+        normal = up_normal;
+        has_up = father_of(list, top.a, top.b, up);
+    }
+    const int32_t list_id = e.list;
+    ++counters_.fathers_do_not_overlap_events;
+    remove_descendants(list_id, top.a, top.b);
+    const int32_t created = create_entry(list_id, top.a, top.b, has_up ? &up : nullptr, false);
+    if (created >= 0) {
+        keep_plane(entries_[created], normal);
+        ++counters_.plane_kept_steps;
+    }
+    return true;
+}
+
+void KineticSeparationLists::keep_plane(Entry& e, const Vec3& normal) {
+    if (!e.plane_kept) {
+        if (free_plane_normals_.empty()) {
+            e.certificate = static_cast<int32_t>(plane_normals_.size());
+            plane_normals_.push_back(normal);
+        } else {
+            e.certificate = free_plane_normals_.back();
+            free_plane_normals_.pop_back();
+        }
+        e.plane_kept = true;
+    }
+    plane_normals_[e.certificate] = normal;
+}
+
+void KineticSeparationLists::release_plane(Entry& e) {
+    if (!e.plane_kept) return;
+    free_plane_normals_.push_back(e.certificate);
+    e.certificate = -1;
+    e.plane_kept = false;
+}
+
 ClearanceRun& KineticSeparationLists::clearance_run(Entry& e) {
-    if (e.clearance_run < 0) {
+    if (e.certificate < 0) {
         if (free_clearance_runs_.empty()) {
-            e.clearance_run = static_cast<int32_t>(clearance_runs_.size());
+            e.certificate = static_cast<int32_t>(clearance_runs_.size());
             clearance_runs_.emplace_back();
         } else {
-            e.clearance_run = free_clearance_runs_.back();
+            e.certificate = free_clearance_runs_.back();
             free_clearance_runs_.pop_back();
-            clearance_runs_[e.clearance_run] = ClearanceRun{};
+            clearance_runs_[e.certificate] = ClearanceRun{};
         }
     }
-    return clearance_runs_[e.clearance_run];
+    return clearance_runs_[e.certificate];
 }
 
 void KineticSeparationLists::release_clearance_run(Entry& e) {
-    if (e.clearance_run < 0) return;
-    free_clearance_runs_.push_back(e.clearance_run);
-    e.clearance_run = -1;
+    if (e.certificate < 0) return;
+    free_clearance_runs_.push_back(e.certificate);
+    e.certificate = -1;
 }
 
 void KineticSeparationLists::worked() {
@@ -628,6 +700,7 @@ void KineticSeparationLists::update(int32_t id) {
         // Covered ahead already: whether the leaves parted is asked when
         // the covered steps run out (covering longer is never wrong).
         if (e.tested_until >= step_end_) return;
+        if (coarsen_to_plane(id)) return;
         if (apart(list, e.a, e.b, LEAF_HYSTERESIS)) {
             ++counters_.leaves_do_not_overlap_events;
             e.overlapping_leaf = false;
@@ -653,12 +726,22 @@ void KineticSeparationLists::update(int32_t id) {
         create_entry(list_id, top.a, top.b, has_up ? &up : nullptr, false);
         return;
     }
+    if ((step_index_ + id) % FRONT_COARSEN_EVERY_STEPS == 0 && coarsen_to_plane(id)) return;
     int64_t quiet;
     if (!meet(list, e.a, e.b, &quiet)) {
+        if (e.plane_kept) release_plane(e);
         e.quiet_until = static_cast<int32_t>(quiet);
         return;
     }
-    ++counters_.bv_overlap_events;
+    Vec3 normal;
+    if (plane_separates(list, e.a, e.b, e.plane_kept ? plane_normals_[e.certificate] : Vec3::Zero(), normal)) {
+        if (!e.plane_kept) ++counters_.bv_overlap_events;
+        keep_plane(e, normal);
+        ++counters_.plane_kept_steps;
+        return;
+    }
+    if (!e.plane_kept) ++counters_.bv_overlap_events;
+    if (e.plane_kept) release_plane(e);
     if (both_leaves(list, e.a, e.b)) {
         e.overlapping_leaf = true;
         cover(e);
@@ -705,6 +788,12 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
                     create_entry(id, 0, 0, nullptr, false);
                 } else if (both_leaves(list, 0, 0)) {
                     create_entry(id, 0, 0, nullptr, true);
+                } else if (Vec3 normal; plane_separates(list, 0, 0, Vec3::Zero(), normal)) {
+                    const int32_t entry = create_entry(id, 0, 0, nullptr, false);
+                    if (entry >= 0) {
+                        keep_plane(entries_[entry], normal);
+                        ++counters_.plane_kept_steps;
+                    }
                 } else {
                     expand(id, 0, 0);
                 }

@@ -44,6 +44,34 @@ StepBoxTree::StepBoxTree(const Flightplans& plans, const std::vector<Triangle>& 
     end_points_.resize(begin_points_.size());
 }
 
+void StepBoxTree::index_triangles_under() {
+    if (!leaf_first_.empty()) return;
+    const int32_t node_count = topology_.node_count();
+    leaf_first_.assign(static_cast<size_t>(node_count), 0);
+    leaf_last_.assign(static_cast<size_t>(node_count), 0);
+    leaf_triangles_.clear();
+    if (node_count == 0) return;
+    // Depth first, left before right: each subtree's leaves come out in one run.
+    std::vector<std::pair<int32_t, bool>> stack{{0, false}};
+    while (!stack.empty()) {
+        const auto [node, closing] = stack.back();
+        stack.pop_back();
+        if (closing) {
+            leaf_last_[node] = static_cast<int32_t>(leaf_triangles_.size());
+            continue;
+        }
+        leaf_first_[node] = static_cast<int32_t>(leaf_triangles_.size());
+        if (topology_.is_leaf(node)) {
+            leaf_triangles_.push_back(topology_.triangle[node]);
+            leaf_last_[node] = static_cast<int32_t>(leaf_triangles_.size());
+            continue;
+        }
+        stack.push_back({node, true});
+        stack.push_back({topology_.right[node], false});
+        stack.push_back({topology_.left[node], false});
+    }
+}
+
 void StepBoxTree::fit(double t0, double t1) {
     if (still_ && fitted_) return;
     const Flightplans& plans = *plans_;

@@ -82,8 +82,10 @@ private:
         int32_t fa = -1, fb = -1;    // BVTT father, -1 for the root pair
         int32_t quiet_until = 0;     // no step before this one can find work for it: boxes apart, or
                                      // an overlapping leaf pair covered ahead up to that step
-        int32_t clearance_run = -1;  // overlapping leaf pair: its certificate in clearance_runs_, or -1
+        int32_t certificate = -1;    // overlapping leaf pair: its ClearanceRun in clearance_runs_; pair kept
+                                     // whole by a plane (plane_kept): its normal in plane_normals_; else -1
         bool overlapping_leaf = false;
+        bool plane_kept = false;     // boxes meet, but a plane keeps every triangle pair beneath apart
         bool inert = false;          // leaf pair whose triangle pair is settled
         bool alive = false;
     };
@@ -173,6 +175,17 @@ private:
     bool share_vertex(int32_t mesh, int32_t tri_a, int32_t tri_b) const;
     /// Key of a leaf pair of `list` in leaf_tested_until_.
     uint64_t tester_key(const List& list, int32_t a, int32_t b) const;
+    /// True, setting `normal`, when (a, b) of an inter-mesh list are small
+    /// enough to look for a plane (NODE_PLANE_MAX_TRIANGLES) and one keeps
+    /// their vertices apart beyond the narrow phase's reach over the current
+    /// step (find_node_plane, trying `previous` first).
+    bool plane_separates(const List& list, int32_t a, int32_t b, const Vec3& previous, Vec3& normal) const;
+    /// Replaces the entry, its siblings and everything under its father by
+    /// the highest ancestor pair a plane keeps apart, when its father is one;
+    /// true then (the entry is gone).
+    bool coarsen_to_plane(int32_t id);
+    void keep_plane(Entry& entry, const Vec3& normal);
+    void release_plane(Entry& entry);
     /// @brief Counts one unit of work; calls progress every kProgressEveryWork units.
     void worked();
 
@@ -207,6 +220,8 @@ private:
     ChunkedVector<ClearanceRun> clearance_runs_;
     HugeVector<SharedVertexPair> shared_vertex_pairs_;
     std::vector<int32_t> free_clearance_runs_;
+    std::vector<Vec3> plane_normals_;  // unit, the vertices under b above those under a
+    std::vector<int32_t> free_plane_normals_;
 };
 
 } // namespace usdksl

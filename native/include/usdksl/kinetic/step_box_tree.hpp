@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace usdksl {
@@ -95,6 +96,21 @@ public:
                                              static_cast<size_t>(step % NODE_TRAVEL_AHEAD_STEPS)];
     }
 
+    /// @brief Lists the triangles under every node (once; until then
+    ///        triangles_under() is empty): only trees whose nodes are asked
+    ///        for separating planes pay for it.
+    void index_triangles_under();
+
+    /// @brief The triangles under `node`, as [first, last) pointers into
+    ///        one array (after index_triangles_under()).
+    std::pair<const int32_t*, const int32_t*> triangles_under(int32_t node) const {
+        const int32_t* all = leaf_triangles_.data();
+        return {all + leaf_first_[node], all + leaf_last_[node]};
+    }
+
+    /// @brief Triangle ids of the mesh (what topology().triangle indexes).
+    const std::vector<Triangle>& triangles() const { return *triangles_; }
+
 private:
     const Flightplans* plans_;
     const std::vector<Triangle>* triangles_;
@@ -114,6 +130,9 @@ private:
     std::vector<double> ahead_moved_;
     double ahead_end_ = -std::numeric_limits<double>::infinity();
     HugeVector<NodeShift> node_shift_;
+    /// index_triangles_under(): triangles in leaf order, and per node the
+    /// range of them under it.
+    std::vector<int32_t> leaf_triangles_, leaf_first_, leaf_last_;
     bool still_;  // no vertex ever moves: the first fit holds for every step
     bool fitted_ = false;
 };

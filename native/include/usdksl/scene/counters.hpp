@@ -16,6 +16,10 @@ struct Counters {
     int64_t fathers_do_not_overlap_events = 0;
     /// @brief KSL: overlapping leaf pairs that stayed apart for a step and left the narrow phase.
     int64_t leaves_do_not_overlap_events = 0;
+    /// @brief KSL: steps on which a front entry whose boxes meet stayed whole
+    ///        because a plane kept every vertex under one node apart from
+    ///        every vertex under the other, beyond the narrow phase's reach.
+    int64_t plane_kept_steps = 0;
     /// @brief KSL: narrow-phase runs over one leaf pair's flightplan steps.
     int64_t polygons_collide_events = 0;
     /// @brief KSL: steps between consecutive breakpoints the front was brought up to date on.
