@@ -96,6 +96,8 @@ KineticSeparationLists::KineticSeparationLists(const Scene& scene,
     for (const auto& [ma, mb] : mesh_pairs) {
         if (!trees_[ma] || !trees_[mb]) continue;
         List list{std::min(ma, mb), std::max(ma, mb), ma == mb, {}};
+        const int32_t nodes = trees_[list.mesh_a]->topology().node_count();
+        list.index.resize(static_cast<size_t>((nodes + FRONT_INDEX_BLOCK_NODES - 1) / FRONT_INDEX_BLOCK_NODES));
         lists_.push_back(std::move(list));
         margin_.push_back(scene.contact_distance(ma, mb, thickness));
         if (ma != mb) {
@@ -341,7 +343,7 @@ int32_t KineticSeparationLists::create_entry(int32_t list_id, int32_t a, int32_t
     }
     e.overlapping_leaf = overlapping_leaf;
     e.alive = true;
-    list.index.emplace(pair_key(a, b), id);
+    index_of(list, a).emplace(pair_key(a, b), id);
     if (both_leaves(list, a, b)) {
         const int32_t tri_a = trees_[list.mesh_a]->topology().triangle[a];
         const int32_t tri_b = trees_[list.mesh_b]->topology().triangle[b];
@@ -399,7 +401,7 @@ bool KineticSeparationLists::done_with(const Entry& e) const { return e.inert; }
 void KineticSeparationLists::remove_entry(int32_t id, bool keep_tested) {
     Entry& e = entries_[id];
     List& list = lists_[e.list];
-    list.index.erase(pair_key(e.a, e.b));
+    index_of(list, e.a).erase(pair_key(e.a, e.b));
     // A leaf pair keeps what its narrow phase covered, should it come back.
     if (keep_tested && !e.inert && e.tested_until > kNothingTested && both_leaves(list, e.a, e.b)) {
         leaf_tested_until_[tester_key(list, e.a, e.b)] = e.tested_until;
@@ -442,12 +444,13 @@ void KineticSeparationLists::expand(int32_t list_id, int32_t a, int32_t b) {
 }
 
 void KineticSeparationLists::remove_descendants(int32_t list_id, int32_t a, int32_t b) {
-    const List& list = lists_[list_id];
+    List& list = lists_[list_id];
     NodePair children[4];
     const int count = children_of(list, a, b, children);
     for (int i = 0; i < count; ++i) {
-        const auto it = list.index.find(pair_key(children[i].a, children[i].b));
-        if (it != list.index.end()) remove_entry(it->second);
+        const FlatHashMap<uint64_t, int32_t>& index = index_of(list, children[i].a);
+        const auto it = index.find(pair_key(children[i].a, children[i].b));
+        if (it != index.end()) remove_entry(it->second);
         else remove_descendants(list_id, children[i].a, children[i].b);
     }
 }
@@ -685,6 +688,10 @@ bool KineticSeparationLists::share_vertex(int32_t mesh, int32_t tri_a, int32_t t
     }
     return false;
 }
+FlatHashMap<uint64_t, int32_t>& KineticSeparationLists::index_of(List& list, int32_t a) {
+    return list.index[static_cast<size_t>(a / FRONT_INDEX_BLOCK_NODES)];
+}
+
 uint64_t KineticSeparationLists::tester_key(const List& list, int32_t a, int32_t b) const {
     return tester_.key(list.mesh_a, trees_[list.mesh_a]->topology().triangle[a], list.mesh_b,
                        trees_[list.mesh_b]->topology().triangle[b]);
