@@ -55,17 +55,22 @@ double worst_overhang(const StepBoxTree& tree, const Flightplans& plans,
     return worst;
 }
 
+/// Every breakpoint time of any vertex, in order: the steps' ends.
+std::vector<double> breakpoint_times(const Flightplans& plans) {
+    std::set<double> breakpoints;
+    for (int32_t v = 0; v < plans.vertex_count(); ++v) {
+        for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) breakpoints.insert(plans.key_time(k));
+    }
+    return {breakpoints.begin(), breakpoints.end()};
+}
+
 /// Fits the tree to every step between the mesh's breakpoints, probes it at
 /// many times inside each, and returns the number of steps.
 int check_every_step(const MeshAnimation& mesh, bool merge) {
     const Flightplans plans(mesh, merge);
     StepBoxTree tree(plans, mesh.triangles, mesh.times.front());
     const auto under = vertices_under(tree.topology(), mesh.triangles);
-    std::set<double> breakpoints;
-    for (int32_t v = 0; v < plans.vertex_count(); ++v) {
-        for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) breakpoints.insert(plans.key_time(k));
-    }
-    const std::vector<double> times(breakpoints.begin(), breakpoints.end());
+    const std::vector<double> times = breakpoint_times(plans);
     constexpr int probes = 13;  // not commensurate with anything in the motion
     int steps = 0;
     for (size_t k = 0; k + 1 < times.size(); ++k) {
@@ -88,11 +93,7 @@ double check_shifts(const MeshAnimation& mesh, bool merge) {
     const Flightplans plans(mesh, merge);
     StepBoxTree tree(plans, mesh.triangles, mesh.times.front());
     const auto under = vertices_under(tree.topology(), mesh.triangles);
-    std::set<double> breakpoints;
-    for (int32_t v = 0; v < plans.vertex_count(); ++v) {
-        for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) breakpoints.insert(plans.key_time(k));
-    }
-    const std::vector<double> times(breakpoints.begin(), breakpoints.end());
+    const std::vector<double> times = breakpoint_times(plans);
     const int64_t steps = static_cast<int64_t>(times.size()) - 1;
     double widest_radius = 0.0, largest_move = 0.0;
     for (int64_t k = 0; k < steps; ++k) {
