@@ -296,14 +296,13 @@ int64_t KineticSeparationLists::quiet_until(const List& list, int32_t a, int32_t
         }
         if (!apart_throughout) return next;
     }
-    const double gap_left = widest;
     if (next >= steps) return steps;
-    if (!(gap_left > 0.0)) return next;
+    if (!(widest > 0.0)) return next;
     // ... and beyond, their meshes' fastest vertex.
     const std::vector<double>& ta = travel_[list.mesh_a];
     const std::vector<double>& tb = travel_[list.mesh_b];
     const auto closes_by = [&](int64_t end) {  // travel over steps next..end-1
-        return (ta[end] - ta[next]) + (tb[end] - tb[next]) >= gap_left;
+        return (ta[end] - ta[next]) + (tb[end] - tb[next]) >= widest;
     };
     int64_t low = next, high = steps;  // steps next..low-1 are safe; find the first end that closes
     if (!closes_by(high)) return steps;
@@ -432,11 +431,7 @@ void KineticSeparationLists::expand(int32_t list_id, int32_t a, int32_t b) {
         } else if (both_leaves(list, c.a, c.b)) {
             create_entry(list_id, c.a, c.b, &father, true);
         } else if (Vec3 normal; plane_separates(list, c.a, c.b, Vec3::Zero(), normal)) {
-            const int32_t id = create_entry(list_id, c.a, c.b, &father, false);
-            if (id >= 0) {
-                keep_plane(entries_[id], normal);
-                ++counters_.plane_kept_steps;
-            }
+            create_plane_kept_entry(list_id, c.a, c.b, &father, normal);
         } else {
             expand(list_id, c.a, c.b);
         }
@@ -606,6 +601,16 @@ bool KineticSeparationLists::plane_separates(const List& list, int32_t a, int32_
     return find_node_plane(tree_a, a, tree_b, b, reach, previous, normal);
 }
 
+template <class Keeps>
+bool KineticSeparationLists::climb(const List& list, NodePair& top, NodePair& up, Keeps&& keeps) const {
+    bool has_up = father_of(list, top.a, top.b, up);
+    while (has_up && keeps(up)) {
+        top = up;
+        has_up = father_of(list, top.a, top.b, up);
+    }
+    return has_up;
+}
+
 bool KineticSeparationLists::coarsen_to_plane(int32_t id) {
     const Entry& e = entries_[id];
     const List& list = lists_[e.list];
@@ -615,22 +620,25 @@ bool KineticSeparationLists::coarsen_to_plane(int32_t id) {
     // Ascend to the highest pair a plane keeps apart.
     NodePair top{e.fa, e.fb};
     NodePair up;
-    bool has_up = father_of(list, top.a, top.b, up);
-    Vec3 up_normal;
-    while (has_up && plane_separates(list, up.a, up.b, normal, up_normal)) {
-        top = up;
-        normal = up_normal;
-        has_up = father_of(list, top.a, top.b, up);
-    }
+    const bool has_up = climb(list, top, up, [&](const NodePair& father) {
+        Vec3 father_normal;
+        if (!plane_separates(list, father.a, father.b, normal, father_normal)) return false;
+        normal = father_normal;
+        return true;
+    });
     const int32_t list_id = e.list;
     ++counters_.fathers_do_not_overlap_events;
     remove_descendants(list_id, top.a, top.b);
-    const int32_t created = create_entry(list_id, top.a, top.b, has_up ? &up : nullptr, false);
-    if (created >= 0) {
-        keep_plane(entries_[created], normal);
-        ++counters_.plane_kept_steps;
-    }
+    create_plane_kept_entry(list_id, top.a, top.b, has_up ? &up : nullptr, normal);
     return true;
+}
+
+void KineticSeparationLists::create_plane_kept_entry(int32_t list_id, int32_t a, int32_t b, const NodePair* father,
+                                                     const Vec3& normal) {
+    const int32_t id = create_entry(list_id, a, b, father, false);
+    if (id < 0) return;
+    keep_plane(entries_[id], normal);
+    ++counters_.plane_kept_steps;
 }
 
 void KineticSeparationLists::keep_plane(Entry& e, const Vec3& normal) {
@@ -724,11 +732,9 @@ void KineticSeparationLists::update(int32_t id) {
         ++counters_.fathers_do_not_overlap_events;
         NodePair top{e.fa, e.fb};
         NodePair up;
-        bool has_up = father_of(list, top.a, top.b, up);
-        while (has_up && apart(list, up.a, up.b, FRONT_HYSTERESIS)) {
-            top = up;
-            has_up = father_of(list, top.a, top.b, up);
-        }
+        const bool has_up = climb(list, top, up, [&](const NodePair& father) {
+            return apart(list, father.a, father.b, FRONT_HYSTERESIS);
+        });
         remove_descendants(list_id, top.a, top.b);
         create_entry(list_id, top.a, top.b, has_up ? &up : nullptr, false);
         return;
@@ -747,8 +753,8 @@ void KineticSeparationLists::update(int32_t id) {
         ++counters_.plane_kept_steps;
         return;
     }
-    if (!e.plane_kept) ++counters_.bv_overlap_events;
     if (e.plane_kept) release_plane(e);
+    else ++counters_.bv_overlap_events;
     if (both_leaves(list, e.a, e.b)) {
         e.overlapping_leaf = true;
         cover(e);
@@ -796,11 +802,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
                 } else if (both_leaves(list, 0, 0)) {
                     create_entry(id, 0, 0, nullptr, true);
                 } else if (Vec3 normal; plane_separates(list, 0, 0, Vec3::Zero(), normal)) {
-                    const int32_t entry = create_entry(id, 0, 0, nullptr, false);
-                    if (entry >= 0) {
-                        keep_plane(entries_[entry], normal);
-                        ++counters_.plane_kept_steps;
-                    }
+                    create_plane_kept_entry(id, 0, 0, nullptr, normal);
                 } else {
                     expand(id, 0, 0);
                 }

@@ -118,6 +118,10 @@ private:
     NodePair normalized(const List& list, int32_t a, int32_t b) const;
     bool father_of(const List& list, int32_t a, int32_t b, NodePair& father) const;
     int children_of(const List& list, int32_t a, int32_t b, NodePair out[4]) const;
+    /// Moves `top` up its fathers while keeps(father) holds; returns whether
+    /// `top` has a father left, then in `up` (the first that did not hold).
+    template <class Keeps>
+    bool climb(const List& list, NodePair& top, NodePair& up, Keeps&& keeps) const;
     bool both_leaves(const List& list, int32_t a, int32_t b) const;
 
     // Geometry of the current step
@@ -194,6 +198,8 @@ private:
     /// the highest ancestor pair a plane keeps apart, when its father is one;
     /// true then (the entry is gone).
     bool coarsen_to_plane(int32_t id);
+    /// create_entry() for a pair a plane (`normal`) keeps apart over the current step.
+    void create_plane_kept_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, const Vec3& normal);
     void keep_plane(Entry& entry, const Vec3& normal);
     void release_plane(Entry& entry);
     /// @brief Counts one unit of work; calls progress every kProgressEveryWork units.
