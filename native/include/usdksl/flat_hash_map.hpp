@@ -5,6 +5,7 @@
 #include "usdksl/huge_page_allocator.hpp"
 
 #include <boost/unordered/unordered_flat_map.hpp>
+#include <boost/unordered/unordered_flat_set.hpp>
 
 #include <functional>
 #include <utility>
@@ -21,5 +22,9 @@ namespace usdksl {
 template <class Key, class Value>
 using FlatHashMap = boost::unordered_flat_map<Key, Value, boost::hash<Key>, std::equal_to<Key>,
                                               HugePageAllocator<std::pair<const Key, Value>>>;
+
+/// @brief The set of the same kind (the pairs earlier time windows found).
+template <class Key>
+using FlatHashSet = boost::unordered_flat_set<Key, boost::hash<Key>, std::equal_to<Key>, HugePageAllocator<Key>>;
 
 } // namespace usdksl

@@ -73,6 +73,7 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
     const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
     ProgressTicker ticker(options, tester);
+    tester.exchange_findings();
     // Static test at the range start, on boxes of that instant.
     refit_all(trees, options.t_begin, options.t_begin, padding);
     for (const auto& [ma, mb] : mesh_pairs) {
@@ -108,6 +109,7 @@ void run_swept_volume(const Scene& scene, const std::vector<std::pair<int32_t, i
                 });
         }
         if (stop) stop->reach(t1);
+        tester.exchange_findings();
         ticker.report(t1);
     }
 }
@@ -128,6 +130,7 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
     auto trees = build_trees(scene, mesh_pairs, options.t_begin);
     const std::vector<double> padding = tree_paddings(scene, options.ccd.thickness);
     ProgressTicker ticker(options, tester);
+    tester.exchange_findings();
     for (size_t i = 0; i < instants.size(); ++i) {
         const double t = instants[i];
         if (stop && i > 0 && stop->stops_before(t)) break;
@@ -142,6 +145,7 @@ void run_discrete(const Scene& scene, const std::vector<std::pair<int32_t, int32
         }
         // Every instant before the next one is tested.
         if (stop) stop->reach(i + 1 < instants.size() ? instants[i + 1] : t);
+        tester.exchange_findings();
         ticker.report(t);
     }
 }

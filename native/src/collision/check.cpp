@@ -209,7 +209,8 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     std::vector<TimeWindow> planned{{options.t_begin, options.t_end}};
     if (threads > 1) {
         cuts = std::make_unique<WindowCuts>(scene, mesh_pairs, options.t_begin, options.t_end);
-        planned = split_into_windows(*cuts, cuttable ? threads : threads * WINDOWS_PER_THREAD_UNCUT);
+        planned = cuttable ? split_into_windows(*cuts, threads, WindowSizes::Equal)
+                           : split_into_windows(*cuts, threads * WINDOWS_PER_THREAD_UNCUT, WindowSizes::Falling);
     }
     if (planned.size() == 1) {
         result.counters.time_windows = 1;
@@ -225,13 +226,17 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                                                        options.t_end, result.counters, options.progress);
         return result;
     }
-    // Windows are checked independently, each on its own copy of the scene
-    // (shared flightplans, own cursors). Every reported time is computed on
-    // raw sample steps, which a window tests exactly as a whole run does, so
-    // the earliest contact per pair over the windows is the whole run's,
-    // wherever the windows were cut.
+    // Windows are checked at once, each on its own copy of the scene (shared
+    // flightplans, own cursors). Every reported time is computed on raw
+    // sample steps, which a window tests exactly as a whole run does, so the
+    // earliest contact per pair over the windows is the whole run's, wherever
+    // the windows were cut. A window leaves alone the pairs that windows
+    // beginning earlier have found (WindowFindings).
     WindowSchedule schedule(*cuts, planned, cuttable);
     WindowProgress progress(options.progress, schedule, options.t_begin);
+    // Brute force, the reference, tests every pair in every window itself.
+    WindowFindings findings;
+    const bool share_findings = options.method != Method::BruteForce;
     check_windows_in_parallel(threads, schedule, [&](ScheduledWindow& window) {
         const Scene local(scene);
         CheckOptions window_options = options;
@@ -240,6 +245,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         window_options.progress = progress.for_window(window);
         TrianglePairTester tester(local, options.ccd, window.counters);
         if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
+        if (share_findings) tester.share_findings(findings, findings.join(window.begin));
         run_method(local, mesh_pairs, window_options, tester, window.counters, &window.stop);
         window.candidates = tester.sorted_contacts();
     });
@@ -262,15 +268,17 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     if (!confirm) {
         for (size_t w = 0; w < count; ++w) confirmed[w] = windows[w]->candidates;
     } else {
-        // Windows are confirmed in time order, each over all threads: a pair
-        // confirmed in an earlier window needs no confirming in a later one
-        // (merging keeps the earliest), where a contact that lasts, such as
-        // cloth resting on a table, would otherwise be confirmed again.
-        std::set<std::tuple<int32_t, int32_t, int32_t, int32_t>> confirmed_pairs;
+        // Windows are confirmed in time order, each over all threads, every
+        // candidate up to the check's end: a pair an earlier window decided
+        // (its first raw contact from there on, or none) needs no confirming
+        // in a later one (merging keeps the earliest), where a contact that
+        // lasts, such as cloth resting on a table, would otherwise be
+        // confirmed again.
+        std::set<std::tuple<int32_t, int32_t, int32_t, int32_t>> decided_pairs;
         for (size_t w = 0; w < count; ++w) {
             std::vector<Contact> open;
             for (const Contact& c : windows[w]->candidates) {
-                if (!confirmed_pairs.count({c.mesh_a, c.tri_a, c.mesh_b, c.tri_b})) open.push_back(c);
+                if (decided_pairs.insert({c.mesh_a, c.tri_a, c.mesh_b, c.tri_b}).second) open.push_back(c);
             }
             const int32_t chunks = static_cast<int32_t>(std::min<size_t>(static_cast<size_t>(threads), open.size()));
             std::vector<std::vector<Contact>> parts(static_cast<size_t>(chunks));
@@ -281,16 +289,14 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                     share.push_back(open[i]);
                 }
                 const Scene raw_local(*raw_scene);
-                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, windows[w]->begin,
-                                                windows[w]->stop.reached.load(), part_counters[k],
-                                                progress.for_window(*windows[w]));
+                // Up to the check's end, not the window's: a later window
+                // may have left the pair to this one (WindowFindings).
+                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, windows[w]->begin, options.t_end,
+                                                part_counters[k], progress.for_window(*windows[w]));
             });
             for (int32_t k = 0; k < chunks; ++k) {
                 add_counters(result.counters, part_counters[k]);
-                for (const Contact& c : parts[k]) {
-                    confirmed_pairs.insert({c.mesh_a, c.tri_a, c.mesh_b, c.tri_b});
-                    confirmed[w].push_back(c);
-                }
+                confirmed[w].insert(confirmed[w].end(), parts[k].begin(), parts[k].end());
             }
         }
     }

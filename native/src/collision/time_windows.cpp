@@ -38,22 +38,26 @@ int64_t WindowCuts::best_cut(int64_t ideal, int64_t reach, int64_t lo, int64_t h
     return best;
 }
 
-std::vector<TimeWindow> split_into_windows(const WindowCuts& cuts, int32_t count) {
+std::vector<TimeWindow> split_into_windows(const WindowCuts& cuts, int32_t count, WindowSizes sizes) {
     const std::vector<double>& times = cuts.times();
     // times holds t_begin, t_end and every sample strictly between them.
     const int64_t steps = cuts.steps();
     const int64_t inner = steps - 1;
-    // Sizes fall linearly, count steps for the first window down to one for
-    // the last: the windows are handed out in order, so the thread that takes
-    // the last one ends soon after the others. The last window spans at least
+    // Window w (from 0) weighs one share (equal sizes), or count - w shares
+    // (falling sizes: the windows are handed out in order, so the thread that
+    // takes the last one ends soon after the others). A share spans at least
     // MIN_SAMPLE_STEPS_PER_WINDOW steps, so the total weight may be at most
     // steps / MIN_SAMPLE_STEPS_PER_WINDOW.
-    while (count > 1 && static_cast<int64_t>(count) * (count + 1) / 2 * MIN_SAMPLE_STEPS_PER_WINDOW > steps) --count;
+    const auto total_weight = [&](int32_t n) {
+        return sizes == WindowSizes::Equal ? static_cast<int64_t>(n) : static_cast<int64_t>(n) * (n + 1) / 2;
+    };
+    while (count > 1 && total_weight(count) * MIN_SAMPLE_STEPS_PER_WINDOW > steps) --count;
     if (count <= 1) return {TimeWindow{times.front(), times.back()}};
-    const double total_weight = static_cast<double>(count) * (count + 1) / 2.0;
     const auto cut_before = [&](int32_t w) {  // ideal sample index where window w begins
-        const double weight_before = static_cast<double>(w) * count - static_cast<double>(w) * (w - 1) / 2.0;
-        return weight_before / total_weight * static_cast<double>(steps);
+        const double weight_before = sizes == WindowSizes::Equal
+                                         ? static_cast<double>(w)
+                                         : static_cast<double>(w) * count - static_cast<double>(w) * (w - 1) / 2.0;
+        return weight_before / static_cast<double>(total_weight(count)) * static_cast<double>(steps);
     };
     std::vector<TimeWindow> windows;
     int64_t previous = 0;

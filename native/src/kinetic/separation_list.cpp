@@ -773,6 +773,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
     times_ = breakpoint_times(scene_, used, t_begin_, t_end_);
     if (times_.size() == 1) times_.push_back(times_.front());  // an empty range: its one instant
     measure_travel();
+    tester_.exchange_findings();  // a window cut from a running one starts knowing what earlier ones found
     for (size_t k = 0; k + 1 < times_.size(); ++k) {
         // Every step before k is done: all contacts before times_[k] are candidates.
         if (stop && k > 0 && stop->stops_before(times_[k])) break;
@@ -826,6 +827,7 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
         step_shared_vertex_pairs();
         ++counters_.bv_change_events;
         if (stop) stop->reach(step_end_);
+        tester_.exchange_findings();
         if (progress) progress(step_end_, static_cast<int64_t>(tester_.contacts().size()));
     }
     progress_ = nullptr;

@@ -69,7 +69,25 @@ bool TrianglePairTester::settled(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, 
         const std::vector<int32_t>& face = scene_.meshes[mesh_a].triangle_face;
         if (!face.empty() && face[tri_a] == face[tri_b]) return true;
     }
-    return found_.count(key(mesh_a, tri_a, mesh_b, tri_b)) != 0;
+    const uint64_t k = key(mesh_a, tri_a, mesh_b, tri_b);
+    return found_.count(k) != 0 || (!found_earlier_.empty() && found_earlier_.count(k) != 0);
+}
+
+void TrianglePairTester::share_findings(WindowFindings& findings, int32_t slot) {
+    findings_ = &findings;
+    findings_slot_ = slot;
+}
+
+void TrianglePairTester::exchange_findings() {
+    if (!findings_) return;
+    std::vector<uint64_t> keys;
+    keys.reserve(contacts_.size() - contacts_published_);
+    for (; contacts_published_ < contacts_.size(); ++contacts_published_) {
+        const Contact& c = contacts_[contacts_published_];
+        keys.push_back(key(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b));
+    }
+    findings_->publish(findings_slot_, keys);
+    findings_->collect_earlier(findings_slot_, findings_cursors_, [this](uint64_t k) { found_earlier_.insert(k); });
 }
 
 bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
@@ -149,6 +167,10 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
                                        double ahead_until) {
     constexpr double infinity = std::numeric_limits<double>::infinity();
     canonical_order(mesh_a, tri_a, mesh_b, tri_b);
+    if (!found_earlier_.empty() && found_earlier_.count(key(mesh_a, tri_a, mesh_b, tri_b)) != 0) {
+        if (carried) carried->valid_at = -infinity;
+        return StepRun{from, true};  // an earlier window's candidate answers for it
+    }
     const Triangle& ids_a = scene_.meshes[mesh_a].triangles[tri_a];
     const Triangle& ids_b = scene_.meshes[mesh_b].triangles[tri_b];
     const Flightplans* plans[6];

@@ -1,7 +1,8 @@
 /// @file time_windows_test.cpp
 /// @brief Time windows for threads: contiguous cover of the range, cut at
-///        sample times, sizes falling from the first window to the last,
-///        the last spanning about MIN_SAMPLE_STEPS_PER_WINDOW sample steps.
+///        sample times, equal sizes (windows that can be cut) or sizes
+///        falling from the first window to the last (windows that cannot),
+///        the smallest spanning about MIN_SAMPLE_STEPS_PER_WINDOW sample steps.
 
 #include "../../src/collision/time_windows.hpp"
 #include "animations.hpp"
@@ -15,10 +16,10 @@ using namespace usdksl;
 
 namespace {
 
-std::vector<TimeWindow> windows_of(int samples, int32_t count) {
+std::vector<TimeWindow> windows_of(int samples, int32_t count, WindowSizes sizes = WindowSizes::Falling) {
     const std::vector<MeshAnimation> meshes{animations::folding_cloth(4, samples)};
     const Scene scene(meshes, false);
-    return split_into_windows(WindowCuts(scene, {{0, 0}}, 0.0, samples - 1.0), count);
+    return split_into_windows(WindowCuts(scene, {{0, 0}}, 0.0, samples - 1.0), count, sizes);
 }
 
 } // namespace
@@ -58,4 +59,23 @@ TEST(TimeWindows, SizesFallSoTheLastWindowHandedOutIsTheSmallest) {
 TEST(TimeWindows, FewerRequestedThanTheMinimumAllowsGivesTheRequestedCount) {
     EXPECT_EQ(windows_of(101, 3).size(), 3u);
     EXPECT_EQ(windows_of(101, 1).size(), 1u);
+}
+
+TEST(TimeWindows, EqualSizesSplitTheRangeEvenlyAndKeepTheMinimumSpan) {
+    const int samples = 201;  // 200 steps
+    const auto two = windows_of(samples, 2, WindowSizes::Equal);
+    ASSERT_EQ(two.size(), 2u);
+    EXPECT_EQ(two.front().begin, 0.0);
+    EXPECT_EQ(two.front().end, two.back().begin) << "contiguous";
+    EXPECT_EQ(two.back().end, samples - 1.0);
+    // The cut lies within a quarter of a window of the middle, at a sample time.
+    EXPECT_NEAR(two.front().end, 100.0, 25.0);
+    EXPECT_EQ(two.front().end, std::floor(two.front().end));
+    // Falling sizes would put that cut two thirds of the way.
+    EXPECT_NEAR(windows_of(samples, 2).front().end, 200.0 * 2.0 / 3.0, 200.0 / 12.0);
+    // 25 equal windows of 8 steps fill 200 steps; 26 would not.
+    EXPECT_EQ(windows_of(samples, 64, WindowSizes::Equal).size(), 25u);
+    for (const TimeWindow& w : windows_of(samples, 25, WindowSizes::Equal)) {
+        EXPECT_GE(w.end - w.begin, 4.0) << "no window shrinks below half a share";
+    }
 }

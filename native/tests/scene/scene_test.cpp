@@ -4,6 +4,7 @@
 
 #include "usdksl/scene/scene.hpp"
 #include "usdksl/scene/triangle_pair_tester.hpp"
+#include "animations.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,36 +12,8 @@
 
 using namespace usdksl;
 
-namespace {
-
-/// One triangle (0.1..0.5 in x and z) at height heights[k] at time code k.
-MeshAnimation falling_triangle(const std::vector<double>& heights) {
-    MeshAnimation mesh;
-    mesh.vertex_count = 3;
-    for (size_t k = 0; k < heights.size(); ++k) {
-        mesh.times.push_back(static_cast<double>(k));
-        const double y = heights[k];
-        mesh.points.insert(mesh.points.end(), {0.1, y, 0.1, 0.5, y, 0.1, 0.1, y, 0.5});
-    }
-    mesh.triangles.push_back({0, 1, 2});
-    mesh.triangle_face.push_back(0);
-    return mesh;
-}
-
-/// The unit right triangle in the plane y = 0, still over the same samples.
-MeshAnimation floor_triangle(int samples) {
-    MeshAnimation mesh;
-    mesh.vertex_count = 3;
-    for (int k = 0; k < samples; ++k) {
-        mesh.times.push_back(static_cast<double>(k));
-        mesh.points.insert(mesh.points.end(), {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0});
-    }
-    mesh.triangles.push_back({0, 1, 2});
-    mesh.triangle_face.push_back(0);
-    return mesh;
-}
-
-} // namespace
+using animations::falling_triangle;
+using animations::floor_triangle;
 
 TEST(Scene, RawScenePositionsInterpolateLinearlyWithoutSlack) {
     const std::vector<MeshAnimation> meshes{floor_triangle(3), falling_triangle({1.0, 0.0, -1.0})};

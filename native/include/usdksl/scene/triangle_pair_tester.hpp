@@ -11,6 +11,7 @@
 #include "usdksl/scene/contact.hpp"
 #include "usdksl/scene/counters.hpp"
 #include "usdksl/scene/scene.hpp"
+#include "usdksl/scene/window_findings.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -32,7 +33,9 @@ struct StepRun {
     /// @brief End (time code) of the last step tested; +inf when the pair's
     ///        vertices all hold still after it, so no later step exists.
     double tested_until;
-    /// @brief True when a step had a contact (recorded; the run stopped there).
+    /// @brief True when the pair needs no further test: a step had a contact
+    ///        (recorded; the run stopped there), or a time window that begins
+    ///        earlier found the pair (TrianglePairTester::share_findings).
     bool hit;
 };
 
@@ -50,7 +53,8 @@ public:
     PairStep step_containing(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t) const;
 
     /// @brief True when the pair can never be reported: same triangle, same
-    ///        authored face of one mesh, or already has its first contact.
+    ///        authored face of one mesh, or already has its first contact
+    ///        (here, or in a time window that begins earlier).
     bool settled(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
 
     /// @brief Continuous test over the whole step; records and returns true on contact.
@@ -90,6 +94,16 @@ public:
     /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);
 
+    /// @brief From now on, exchange_findings() publishes the pairs this
+    ///        tester finds as the window in `slot` of `findings`, and takes
+    ///        the pairs that windows beginning earlier found: settled here
+    ///        (see WindowFindings for why that keeps the answer).
+    void share_findings(WindowFindings& findings, int32_t slot);
+    /// @brief Publishes the pairs found since the last call and takes those
+    ///        earlier windows published meanwhile; nothing without
+    ///        share_findings. Methods call it once per step.
+    void exchange_findings();
+
     /// @brief A key naming the triangle pair, equal for both orders, unique within the scene.
     uint64_t key(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b) const;
 
@@ -127,6 +141,12 @@ private:
     Counters& counters_;
     std::vector<int64_t> triangle_offset_;
     FlatHashMap<uint64_t, size_t> found_;
+    /// Pairs that time windows beginning earlier found (share_findings).
+    FlatHashSet<uint64_t> found_earlier_;
+    WindowFindings* findings_ = nullptr;
+    int32_t findings_slot_ = -1;
+    size_t contacts_published_ = 0;
+    std::vector<size_t> findings_cursors_;
     std::vector<Contact> contacts_;
     /// Repeated vertex-face queries of this tester's narrow phase (a tester
     /// is used by one thread at a time).
