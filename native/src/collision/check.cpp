@@ -11,6 +11,7 @@
 #include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <algorithm>
+#include <mutex>
 #include <atomic>
 #include <cmath>
 #include <exception>
@@ -71,11 +72,17 @@ struct WindowCancelled {};
 /// True when the method honours WindowStop, so a running window can be cut.
 bool cuts_windows(Method method) { return method != Method::BruteForce; }
 
-/// Runs body(window) for every window the schedule hands out, on `threads` threads.
-template <typename Body>
-void check_windows_in_parallel(int32_t threads, WindowSchedule& schedule, Body body) {
+/// Runs body(window) for every window the schedule hands out, on `threads`
+/// threads; a thread left without a window calls when_idle() before it ends.
+template <typename Body, typename WhenIdle>
+void check_windows_in_parallel(int32_t threads, WindowSchedule& schedule, Body body, WhenIdle when_idle) {
     run_on_threads<ScheduledWindow*, WindowCancelled>(
-        threads, [&](ScheduledWindow*& window) { return (window = schedule.next()) != nullptr; },
+        threads,
+        [&](ScheduledWindow*& window) {
+            if ((window = schedule.next()) != nullptr) return true;
+            when_idle();
+            return false;
+        },
         [&](ScheduledWindow* window) {
             body(*window);
             schedule.finish(*window);
@@ -237,6 +244,12 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     // Brute force, the reference, tests every pair in every window itself.
     WindowFindings findings;
     const bool share_findings = options.method != Method::BruteForce;
+    // The discrete baseline answers at sampled instants; it stays what it is, misses included.
+    const bool confirm = options.method != Method::Discrete;
+    std::vector<FlightplanKind> checked_kinds(meshes.size(), FlightplanKind::Unused);
+    for (const auto& [mesh_a, mesh_b] : mesh_pairs) checked_kinds[mesh_a] = checked_kinds[mesh_b] = FlightplanKind::RawSamples;
+    std::unique_ptr<Scene> raw_scene;
+    std::once_flag raw_scene_started;
     check_windows_in_parallel(threads, schedule, [&](ScheduledWindow& window) {
         const Scene local(scene);
         CheckOptions window_options = options;
@@ -248,6 +261,18 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         if (share_findings) tester.share_findings(findings, findings.join(window.begin));
         run_method(local, mesh_pairs, window_options, tester, window.counters, &window.stop);
         window.candidates = tester.sorted_contacts();
+    }, [&]() {
+        // The first thread left without a window builds the raw flightplans
+        // the candidates are confirmed on while the others finish, for every
+        // mesh a candidate can name; with none running, it is left for after.
+        if (!confirm || !schedule.any_running()) return;
+        std::call_once(raw_scene_started, [&]() {
+            try {
+                raw_scene = std::make_unique<Scene>(meshes, checked_kinds, 1);
+            } catch (...) {
+                raw_scene.reset();  // built again below, where a failure is reported
+            }
+        });
     });
     // Each window as far as it covered (stop.reached): a window cut short ends
     // where it stopped, at or after the begin of the window that took its rest.
@@ -259,13 +284,11 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         add_counters(result.counters, window->counters);
         mark_meshes_to_confirm(scene, window->candidates, kinds);
     }
-    std::unique_ptr<Scene> raw_scene;
-    if (options.method != Method::Discrete && std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
+    if (confirm && !raw_scene &&
+        std::any_of(kinds.begin(), kinds.end(), [](FlightplanKind k) { return k != FlightplanKind::Unused; })) {
         raw_scene = std::make_unique<Scene>(meshes, kinds, threads);
     }
-    // The discrete baseline answers at sampled instants; it stays what it is, misses included.
-    const bool confirm = options.method != Method::Discrete && raw_scene;
-    if (!confirm) {
+    if (!confirm || !raw_scene) {
         for (size_t w = 0; w < count; ++w) confirmed[w] = windows[w]->candidates;
     } else {
         // Windows are confirmed in time order, each over all threads, every

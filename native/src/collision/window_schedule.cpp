@@ -53,6 +53,12 @@ void WindowSchedule::finish(ScheduledWindow& window) {
     window.finished = true;
 }
 
+bool WindowSchedule::any_running() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return !cancelled_ && std::any_of(windows_.begin(), windows_.end(),
+                       [](const auto& window) { return window->started && !window->finished; });
+}
+
 void WindowSchedule::cancel() {
     std::lock_guard<std::mutex> lock(mutex_);
     cancelled_ = true;

@@ -65,6 +65,9 @@ public:
     }
     /// @brief Every window, ordered by begin; call after every thread is done.
     std::vector<ScheduledWindow*> in_time_order() const;
+    /// @brief True while some window handed out is not finished (never
+    ///        once cancelled).
+    bool any_running() const;
     /// @brief Windows handed out by cutting a running one.
     int64_t cuts_made() const { return cuts_made_; }
 
