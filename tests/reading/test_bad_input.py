@@ -236,8 +236,43 @@ def test_the_earliest_bad_sample_is_named_however_samples_are_batched(build, mon
     from usdksl.reading import meshes
 
     if block_values is not None:   # blocks of one sample, and of two
-        monkeypatch.setattr(meshes, "FIXED_TRANSFORM_BLOCK_VALUES", block_values)
+        monkeypatch.setattr(meshes, "TRANSFORM_BLOCK_VALUES", block_values)
     path = build("nan_then_count.usda", fill_nan_then_points_count_changes)
     with pytest.raises(UsdkslInputError, match="point 2 is NaN") as raised:
         load_shot(path)
     assert raised.value.time == 2.0
+
+
+def fill_moving_with_bad_transform_and_nan(bad_transform_time, nan_time):
+    """A mesh under a transform that moves (one matrix per sample) with a NaN transform and a NaN point."""
+    def fill(stage):
+        mover = UsdGeom.Xform.Define(stage, "/World/Mover")
+        translate = mover.AddTranslateOp()
+        for time in (1.0, 2.0, 3.0, 4.0):
+            offset = math.nan if time == bad_transform_time else time
+            translate.Set((offset, 0.0, 0.0), time)
+        bad = POINTS.copy()
+        bad[1, 2] = math.nan
+        write_mesh(stage, "/World/Mover/Bad", COUNTS, INDICES,
+                   samples={time: bad if time == nan_time else POINTS for time in (1.0, 2.0, 3.0, 4.0)})
+    return fill
+
+
+@pytest.mark.parametrize("block_values", [None, 27, 2 * 27])
+@pytest.mark.parametrize("bad_transform_time, nan_time, message", [(3.0, 2.0, "point 1 is NaN"),
+                                                                   (2.0, 3.0, "transform is not finite"),
+                                                                   (2.0, 2.0, "transform is not finite")])
+def test_under_a_moving_transform_the_earliest_bad_sample_is_named(build, monkeypatch, block_values,
+                                                                   bad_transform_time, nan_time, message):
+    """Under a transform that moves, samples are moved to world space a block at a time with one matrix
+    each: the error is the earliest sample's, and at one sample a bad transform is named before its points."""
+    from usdksl.reading import meshes
+
+    if block_values is not None:
+        monkeypatch.setattr(meshes, "TRANSFORM_BLOCK_VALUES", block_values)
+    path = build("moving.usda", fill_moving_with_bad_transform_and_nan(bad_transform_time, nan_time))
+    with pytest.raises(UsdkslInputError, match=message) as raised:
+        load_shot(path)
+    assert raised.value.time == min(bad_transform_time, nan_time)
+    assert raised.value.prim == "/World/Mover/Bad"
+

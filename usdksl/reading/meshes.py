@@ -287,13 +287,19 @@ class _MatrixCache:
 
 def _to_world(local: np.ndarray, matrix: np.ndarray, out: np.ndarray) -> None:
     """out = [local, 1] @ matrix (USD row vectors), projective matrices included. ``local`` is [N, 3] or a
-    stack [K, N, 3] of samples (numpy multiplies a stack slice by slice: the same numbers as one by one)."""
+    stack [K, N, 3] of samples, ``matrix`` [4, 4], or a stack [K, 4, 4] with one per sample of a stack (numpy
+    multiplies a stack slice by slice: the same numbers as one by one)."""
     with np.errstate(invalid="ignore", over="ignore"):   # non-finite input is reported by the caller
-        np.matmul(local, matrix[:3, :3], out=out)
-        out += matrix[3, :3]
-        if not np.array_equal(matrix[:, 3], (0.0, 0.0, 0.0, 1.0)):
-            w = local @ matrix[:3, 3] + matrix[3, 3]
-            out /= w[..., None]
+        np.matmul(local, matrix[..., :3, :3], out=out)
+        out += matrix[..., None, 3, :3] if matrix.ndim == 3 else matrix[3, :3]
+        if matrix.ndim == 2:
+            if not np.array_equal(matrix[:, 3], (0.0, 0.0, 0.0, 1.0)):
+                w = local @ matrix[:3, 3] + matrix[3, 3]
+                out /= w[..., None]
+            return
+        for k in np.flatnonzero((matrix[:, :, 3] != (0.0, 0.0, 0.0, 1.0)).any(axis=1)):
+            w = local[k] @ matrix[k, :3, 3] + matrix[k, 3, 3]
+            out[k] /= w[..., None]
 
 
 def to_world_checked(file: str, path: str, time: float, local: np.ndarray, matrix: np.ndarray,
@@ -385,31 +391,32 @@ def classified_mesh(path: str, times: np.ndarray, points: np.ndarray, local_cons
 
 
 #: Point coordinates (samples x points x 3) read before they are moved to world space together: bounds the
-#: extra memory of a mesh whose transform does not move (16 MB of float32) while keeping per-sample numpy
-#: calls out of the Python loop over samples.
-FIXED_TRANSFORM_BLOCK_VALUES = 1 << 22
+#: extra memory of a block (16 MB of float32) while keeping per-sample numpy calls out of the Python loop over
+#: samples (a transform that moves, as a rigid body's, contributes one matrix per sample to the block's product).
+TRANSFORM_BLOCK_VALUES = 1 << 22
 
 
-def _points_through_fixed_matrix(file: str, path: str, attribute: Usd.Attribute, times: np.ndarray,
-                                 topology: MeshTopology, animated: bool, matrix: np.ndarray,
-                                 out: np.ndarray) -> Optional[bool]:
-    """``out[k]`` = the authored points at ``times[k]`` through ``matrix``, a local-to-world transform that does
-    not move: the numbers, checks and first error of :func:`to_world_checked` sample after sample, the
-    product taken over blocks of samples. Returns whether the authored points never change, or None
-    (nothing done) when a sample's points come in another precision than the first's."""
+def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.ndarray, topology: MeshTopology,
+                      animated: bool, fixed_matrix: Optional[np.ndarray], matrices: "_MatrixCache", prim: Usd.Prim,
+                      out: np.ndarray) -> Optional[bool]:
+    """``out[k]`` = the authored points at ``times[k]`` through the local-to-world transform at ``times[k]``
+    (``fixed_matrix`` when it cannot vary, else from ``matrices``): the numbers, checks and first error of
+    :func:`to_world_checked` sample after sample, the products taken over blocks of samples. Returns whether
+    the authored points never change, or None (nothing done) when a sample's points come in another
+    precision than the first's."""
     first = topology.first_local
-    if not animated:   # every sample is the first one
-        to_world_checked(file, path, float(times[0]), first, matrix, out[0])
+    if not animated and fixed_matrix is not None:   # every sample is the first one
+        to_world_checked(file, path, float(times[0]), first, fixed_matrix, out[0])
         out[1:] = out[0]
         return True
-    samples_per_block = max(1, FIXED_TRANSFORM_BLOCK_VALUES // max(1, first.size))
+    samples_per_block = max(1, TRANSFORM_BLOCK_VALUES // max(1, first.size))
     block = np.empty((min(samples_per_block, times.shape[0]),) + first.shape, dtype=first.dtype)
     local_constant = True
     for start in range(0, times.shape[0], samples_per_block):
         read, failure = 0, None
         for k in range(start, min(start + samples_per_block, times.shape[0])):
             try:
-                local = read_local_points(file, path, attribute, float(times[k]), topology)
+                local = read_local_points(file, path, attribute, float(times[k]), topology) if animated else first
             except UsdkslInputError as error:   # raised once the samples before it are checked
                 failure = error
                 break
@@ -418,14 +425,25 @@ def _points_through_fixed_matrix(file: str, path: str, attribute: Usd.Attribute,
             block[read] = local
             read += 1
         if read:
-            if start == 0 and not np.isfinite(matrix).all():
-                raise UsdkslInputError("local-to-world transform is not finite", file=file, prim=path,
-                                       time=float(times[0]))
             world = out[start:start + read]
+            if fixed_matrix is not None:
+                matrix = fixed_matrix
+                bad_matrix = 0 if start == 0 and not np.isfinite(fixed_matrix).all() else read
+            else:
+                matrix = np.stack([matrices.local_to_world(prim, float(t)) for t in times[start:start + read]])
+                finite = np.isfinite(matrix).all(axis=(1, 2))
+                bad_matrix = read if finite.all() else int(np.argmin(finite))
+            if bad_matrix == 0:
+                raise UsdkslInputError("local-to-world transform is not finite", file=file, prim=path,
+                                       time=float(times[start]))
             _to_world(block[:read], matrix, world)
-            if not np.isfinite(world).all():
-                bad = int(np.argmax(~np.isfinite(world).all(axis=(1, 2))))
+            finite = np.isfinite(world).all(axis=(1, 2))
+            bad = read if finite.all() else int(np.argmin(finite))
+            if bad < bad_matrix:
                 check_finite_points(file, path, float(times[start + bad]), world[bad])
+            if bad_matrix < read:
+                raise UsdkslInputError("local-to-world transform is not finite", file=file, prim=path,
+                                       time=float(times[start + bad_matrix]))
             local_constant = local_constant and bool((block[:read] == first).all())
         if failure is not None:
             raise failure
@@ -450,11 +468,10 @@ def load_mesh(prim: Usd.Prim, times: np.ndarray, file: str = "",
     fixed_matrix = None if transform_may_vary(prim) else matrices.local_to_world(prim, topology.first_time)
 
     points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float64)
-    if fixed_matrix is not None:
-        local_constant = _points_through_fixed_matrix(file, path, points_attr, times, topology, points_animated,
-                                                      fixed_matrix, points)
-        if local_constant is not None:
-            return classified_mesh(path, times, points, local_constant, topology)
+    local_constant = _points_in_blocks(file, path, points_attr, times, topology, points_animated, fixed_matrix,
+                                       matrices, prim, points)
+    if local_constant is not None:
+        return classified_mesh(path, times, points, local_constant, topology)
     local_constant = True
     for k, time in enumerate(times):
         time = float(time)
