@@ -8,19 +8,30 @@ namespace usdksl {
 
 WindowCuts::WindowCuts(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
                        double t_begin, double t_end)
-    : times_(merged_sample_times(scene, mesh_pairs, t_begin, t_end)), shared_(times_.size(), 0) {
+    : scene_(scene), times_(merged_sample_times(scene, mesh_pairs, t_begin, t_end)) {
     std::vector<bool> used(scene.meshes.size(), false);
     for (const auto& [a, b] : mesh_pairs) used[a] = used[b] = true;
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
-        if (!used[m]) continue;
-        const Flightplans& plans = scene.plans[m];
+        if (used[m]) used_meshes_.push_back(static_cast<int32_t>(m));
+    }
+}
+
+std::vector<int64_t> WindowCuts::breakpoints_at(int64_t first, int64_t last) const {
+    std::vector<int64_t> count(static_cast<size_t>(last - first + 1), 0);
+    for (const int32_t m : used_meshes_) {
+        const Flightplans& plans = scene_.plans[static_cast<size_t>(m)];
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
-            for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
-                const auto it = std::lower_bound(times_.begin(), times_.end(), plans.key_time(k));
-                if (it != times_.end() && *it == plans.key_time(k)) ++shared_[it - times_.begin()];
+            // Both lists are sorted: walk v's breakpoints in [times_[first], times_[last]] beside the times.
+            int64_t k = plans.peek_segment(v, times_[first]);
+            if (plans.key_time(k) < times_[first]) ++k;
+            int64_t i = first;
+            for (; k < plans.key_end(v) && plans.key_time(k) <= times_[last]; ++k) {
+                while (times_[i] < plans.key_time(k)) ++i;
+                if (times_[i] == plans.key_time(k)) ++count[static_cast<size_t>(i - first)];
             }
         }
     }
+    return count;
 }
 
 int64_t WindowCuts::index_at_or_after(double t) const {
@@ -28,12 +39,14 @@ int64_t WindowCuts::index_at_or_after(double t) const {
 }
 
 int64_t WindowCuts::best_cut(int64_t ideal, int64_t reach, int64_t lo, int64_t hi) const {
+    const int64_t first = std::max(lo, ideal - reach), last = std::min(hi, ideal + reach);
+    if (first > last) return -1;
+    const std::vector<int64_t> shared = breakpoints_at(first, last);
+    const auto at = [&](int64_t j) { return shared[static_cast<size_t>(j - first)]; };
     const auto distance = [&](int64_t j) { return j > ideal ? j - ideal : ideal - j; };
     int64_t best = -1;
-    for (int64_t i = std::max(lo, ideal - reach); i <= std::min(hi, ideal + reach); ++i) {
-        if (best < 0 || shared_[i] > shared_[best] || (shared_[i] == shared_[best] && distance(i) < distance(best))) {
-            best = i;
-        }
+    for (int64_t i = first; i <= last; ++i) {
+        if (best < 0 || at(i) > at(best) || (at(i) == at(best) && distance(i) < distance(best))) best = i;
     }
     return best;
 }

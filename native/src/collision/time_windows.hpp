@@ -52,8 +52,15 @@ public:
     int64_t best_cut(int64_t ideal, int64_t reach, int64_t lo, int64_t hi) const;
 
 private:
+    /// Per time of times_[first..last]: flightplan breakpoints that fall on
+    /// it. Counted where a cut is looked for only, not over the whole range
+    /// (all vertices' breakpoints of a per-frame cache: 5 ms before two
+    /// threads could start on the shirt cache).
+    std::vector<int64_t> breakpoints_at(int64_t first, int64_t last) const;
+
+    const Scene& scene_;  // outlives the cuts
+    std::vector<int32_t> used_meshes_;
     std::vector<double> times_;
-    std::vector<int64_t> shared_;  // per time: flightplan breakpoints that fall on it
 };
 
 /// @brief How the planned windows of a check divide its range.

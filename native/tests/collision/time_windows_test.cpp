@@ -79,3 +79,25 @@ TEST(TimeWindows, EqualSizesSplitTheRangeEvenlyAndKeepTheMinimumSpan) {
         EXPECT_GE(w.end - w.begin, 4.0) << "no window shrinks below half a share";
     }
 }
+
+TEST(TimeWindows, CutsFallOnTheSampleTimeWhereMostBreakpointsFall) {
+    // A sheet that zigzags up and down, turning every 10 samples: merged
+    // flightplans keep breakpoints at the turns (time codes 0, 10, 20, ...) only.
+    const int samples = 101;
+    const std::vector<MeshAnimation> meshes{animations::sheet(2, samples, [](double x, double z, int k) {
+        return Vec3(x, 0.01 * std::abs((k % 20) - 10), z);
+    })};
+    const Scene scene(meshes, true);
+    ASSERT_TRUE(scene.merged(0));
+    const WindowCuts cuts(scene, {{0, 0}}, 0.0, samples - 1.0);
+    EXPECT_EQ(cuts.best_cut(47, 6, 1, 99), 50) << "the turn within reach";
+    EXPECT_EQ(cuts.best_cut(47, 2, 1, 99), 47) << "none within reach: the ideal place";
+    EXPECT_EQ(cuts.best_cut(47, 6, 1, 49), 47) << "a turn beyond the bound does not count";
+    EXPECT_EQ(cuts.best_cut(47, 6, 60, 99), -1) << "an empty range";
+    // Equal windows of the 100 steps cut at the turn nearest each ideal place.
+    const auto windows = split_into_windows(cuts, 4, WindowSizes::Equal);
+    ASSERT_EQ(windows.size(), 4u);
+    EXPECT_EQ(windows[0].end, 20.0);  // ideal 25: 20 and 30 are as near; the first found stays
+    EXPECT_EQ(windows[1].end, 50.0);
+    EXPECT_EQ(windows[2].end, 70.0);
+}
