@@ -27,9 +27,10 @@ constexpr double DEFAULT_THICKNESS = 0.0;
 ///        reported contact is confirmed on the raw samples.
 constexpr double FLIGHTPLAN_COLLINEAR_TOLERANCE = 0x1p-22;
 
-/// @brief Vertex samples (vertices x samples) below which a mesh's
-///        flightplans are built on one thread: starting one costs more.
-constexpr int64_t FLIGHTPLAN_SAMPLES_PER_THREAD = 1 << 16;
+/// @brief Vertex samples (vertices x samples) per run of vertices handed to
+///        one thread when flightplans are built: smaller runs would cost more
+///        in hand-outs than they even out.
+constexpr int64_t FLIGHTPLAN_SAMPLES_PER_RUN = 1 << 16;
 
 /// @brief Relative padding (to the magnitude of the vertices under a box)
 ///        added to every box overlap test on top of the thickness, covering

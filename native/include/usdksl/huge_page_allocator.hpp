@@ -5,9 +5,12 @@
 ///        million-face check span gigabytes reached in random order, and
 ///        with 4 KiB pages most of those reaches miss the TLB.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdlib>
+#include <memory>
 #include <new>
+#include <type_traits>
 #include <vector>
 
 #if defined(__linux__)
@@ -63,5 +66,26 @@ struct HugePageAllocator {
 /// @brief A std::vector whose large arrays sit on huge pages.
 template <class T>
 using HugeVector = std::vector<T, HugePageAllocator<T>>;
+
+/// @brief Frees the block of a HugeArray.
+template <class T>
+struct HugeArrayDeleter {
+    size_t bytes = 0;
+    void operator()(T* block) const noexcept { free_maybe_huge(block, bytes); }
+};
+
+/// @brief A fixed-size array whose large blocks sit on huge pages.
+template <class T>
+using HugeArray = std::unique_ptr<T[], HugeArrayDeleter<T>>;
+
+/// @brief An array of `count` elements left uninitialized, for arrays whose
+///        every element is written once, by several threads: zeroing them
+///        first would be serial work on the caller's thread.
+template <class T>
+HugeArray<T> make_uninitialized_huge_array(size_t count) {
+    static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>);
+    const size_t bytes = std::max<size_t>(count, 1) * sizeof(T);
+    return HugeArray<T>(static_cast<T*>(allocate_maybe_huge(bytes)), HugeArrayDeleter<T>{bytes});
+}
 
 } // namespace usdksl

@@ -19,15 +19,16 @@ Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear, 
 Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<FlightplanKind>& kinds, int32_t threads)
     : meshes(meshes_in) {
     if (kinds.size() != meshes.size()) throw std::invalid_argument("scene: one flightplan kind per mesh");
-    plans.reserve(meshes.size());
-    merge_deviation_.reserve(meshes.size());
+    std::vector<FlightplanRequest> requests;
     for (size_t m = 0; m < meshes.size(); ++m) {
-        if (kinds[m] == FlightplanKind::Unused) {
-            plans.emplace_back();
-        } else {
-            plans.emplace_back(meshes[m], kinds[m] == FlightplanKind::MergedSamples, threads);
-        }
-        merge_deviation_.push_back(plans.back().merge_deviation());
+        if (kinds[m] != FlightplanKind::Unused) requests.push_back({&meshes[m], kinds[m] == FlightplanKind::MergedSamples});
+    }
+    std::vector<Flightplans> built = Flightplans::build_all(requests, threads);
+    plans.resize(meshes.size());
+    merge_deviation_.reserve(meshes.size());
+    for (size_t m = 0, r = 0; m < meshes.size(); ++m) {
+        if (kinds[m] != FlightplanKind::Unused) plans[m] = std::move(built[r++]);
+        merge_deviation_.push_back(plans[m].merge_deviation());
     }
 }
 

@@ -100,13 +100,13 @@ TEST(Flightplans, SegmentLookupAgreesWithBinarySearchInAnyQueryOrder) {
 }
 
 TEST(Flightplans, AnyThreadCountBuildsTheSameFlightplans) {
-    // Large enough to be split over threads (FLIGHTPLAN_SAMPLES_PER_THREAD),
+    // Large enough to be split over threads (FLIGHTPLAN_SAMPLES_PER_RUN),
     // with merges, a few still vertices and deviations left by the noise.
     MeshAnimation mesh = random_walk(3001, 120, 11, 1e-7);
     for (int k = 0; k < 120; ++k) {
         for (int axis = 0; axis < 3; ++axis) mesh.points[(static_cast<size_t>(k) * 3001 + 1500) * 3 + axis] = 0.25;
     }
-    ASSERT_GT(static_cast<int64_t>(mesh.times.size()) * mesh.vertex_count, 3 * usdksl::FLIGHTPLAN_SAMPLES_PER_THREAD);
+    ASSERT_GT(static_cast<int64_t>(mesh.times.size()) * mesh.vertex_count, 3 * usdksl::FLIGHTPLAN_SAMPLES_PER_RUN);
     const Flightplans one(mesh, true, 1);
     ASSERT_TRUE(one.merged());
     ASSERT_GT(one.merge_deviation(), 0.0);
@@ -127,4 +127,49 @@ TEST(Flightplans, AnyThreadCountBuildsTheSameFlightplans) {
         }
     }
     EXPECT_EQ(one.key_end(1500) - one.key_begin(1500), 1);  // the still vertex keeps one breakpoint
+}
+
+TEST(Flightplans, MeshesBuiltTogetherGetTheFlightplansEachGetsAlone) {
+    // Runs of several meshes share one pool of work: each mesh's breakpoints
+    // must still start at its own first key, merged or not.
+    const MeshAnimation large = random_walk(2001, 90, 5, 1e-7);  // several runs
+    const MeshAnimation raw = random_walk(700, 90, 6, 1e-7);
+    const MeshAnimation tiny = random_walk(3, 90, 7, 0.0);
+    ASSERT_GT(static_cast<int64_t>(large.times.size()) * large.vertex_count, 2 * usdksl::FLIGHTPLAN_SAMPLES_PER_RUN);
+    const std::vector<usdksl::FlightplanRequest> requests{{&large, true}, {&raw, false}, {&tiny, true}, {&large, false}};
+    const std::vector<Flightplans> together = Flightplans::build_all(requests, 2);
+    ASSERT_EQ(together.size(), requests.size());
+    for (size_t r = 0; r < requests.size(); ++r) {
+        const MeshAnimation& mesh = *requests[r].mesh;
+        const Flightplans alone(mesh, requests[r].merge_collinear, 1);
+        const Flightplans& plans = together[r];
+        EXPECT_EQ(plans.merged(), alone.merged()) << "mesh " << r;
+        EXPECT_EQ(plans.merge_deviation(), alone.merge_deviation());
+        EXPECT_EQ(plans.max_abs_coordinate(), alone.max_abs_coordinate());
+        ASSERT_EQ(plans.vertex_count(), mesh.vertex_count);
+        for (int32_t v = 0; v < mesh.vertex_count; ++v) {
+            ASSERT_EQ(plans.key_begin(v), alone.key_begin(v)) << "mesh " << r << " vertex " << v;
+            ASSERT_EQ(plans.key_end(v), alone.key_end(v)) << "mesh " << r << " vertex " << v;
+            EXPECT_EQ(plans.vertex_magnitude(v), alone.vertex_magnitude(v));
+            for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
+                ASSERT_EQ(plans.key_time(k), alone.key_time(k));
+                for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(plans.key_coord(k, axis), alone.key_coord(k, axis));
+            }
+        }
+        if (!requests[r].merge_collinear) {
+            // Raw samples: every sample is a breakpoint, as authored.
+            for (int32_t v = 0; v < mesh.vertex_count; v += 97) {
+                ASSERT_EQ(plans.key_end(v) - plans.key_begin(v), static_cast<int64_t>(mesh.times.size()));
+                for (size_t k = 0; k < mesh.times.size(); ++k) {
+                    const int64_t key = plans.key_begin(v) + static_cast<int64_t>(k);
+                    ASSERT_EQ(plans.key_time(key), mesh.times[k]);
+                    for (int axis = 0; axis < 3; ++axis) {
+                        ASSERT_EQ(plans.key_coord(key, axis), mesh.points[(k * static_cast<size_t>(mesh.vertex_count) + v) * 3 + axis]);
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_TRUE(together[0].merged());
+    EXPECT_FALSE(together[3].merged());
 }

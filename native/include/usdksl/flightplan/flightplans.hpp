@@ -2,6 +2,7 @@
 /// @file flightplans.hpp
 /// @brief Piecewise-linear vertex trajectories of one mesh, stored per vertex.
 
+#include "usdksl/huge_page_allocator.hpp"
 #include "usdksl/mesh_animation.hpp"
 #include "usdksl/types.hpp"
 
@@ -10,6 +11,13 @@
 #include <vector>
 
 namespace usdksl {
+
+/// @brief One mesh whose flightplans Flightplans::build_all builds.
+struct FlightplanRequest {
+    const MeshAnimation* mesh = nullptr;
+    /// @brief See Flightplans(mesh, merge_collinear, threads).
+    bool merge_collinear = false;
+};
 
 /// @brief The flightplans of every vertex of one mesh. Each vertex keeps its
 ///        own breakpoints (time codes) because consecutive collinear segments
@@ -28,6 +36,13 @@ public:
     ///        that stretch of time). Up to `threads` threads build runs of
     ///        vertices (the same flightplans for any count).
     Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_t threads = 1);
+
+    /// @brief The flightplans of several meshes, one per request, built
+    ///        together on up to `threads` threads: runs of vertices of every
+    ///        mesh are handed out as one pool of work, so a few large meshes
+    ///        and many small ones keep every thread busy (the same
+    ///        flightplans for any count).
+    static std::vector<Flightplans> build_all(const std::vector<FlightplanRequest>& requests, int32_t threads);
 
     int32_t vertex_count() const { return vertex_count_; }
 
@@ -109,19 +124,22 @@ public:
 
 
 private:
-    struct VertexRange;
-    /// Builds the flightplans of vertices [first, last) into `range`, and
-    /// their entries of `vertex_magnitude`.
-    static void build_range(const MeshAnimation& mesh, bool merge_collinear, int32_t first, int32_t last,
-                            std::vector<double>& vertex_magnitude, VertexRange& range);
+    struct VertexRun;
+    /// Picks the breakpoints of the run's vertices among their samples
+    /// (all of them unless merging), checking that those samples are finite.
+    static void choose_breakpoints(VertexRun& run);
+    struct Storage;
+    /// Writes the run's breakpoints, offsets and vertex magnitudes into the
+    /// mesh's arrays, from its first breakpoint on.
+    static void write_breakpoints(const VertexRun& run, Storage& storage);
     int64_t search_segment(int32_t v, double t) const;
 
     /// The breakpoints, shared by copies: a copy costs one cursor per vertex,
     /// so each thread can walk its own.
     struct Storage {
         std::vector<int64_t> offsets;
-        std::vector<double> key_times;
-        std::vector<double> key_points;
+        HugeArray<double> key_times;
+        HugeArray<double> key_points;
         std::vector<double> vertex_magnitude;
         /// Per vertex, kept only when some vertex deviates.
         std::vector<double> vertex_deviation;
