@@ -11,7 +11,6 @@
 #include "usdksl/scene/triangle_pair_tester.hpp"
 
 #include <algorithm>
-#include <mutex>
 #include <atomic>
 #include <cmath>
 #include <exception>

@@ -138,7 +138,7 @@ void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
             key_points[3 * key] = p[0];
             key_points[3 * key + 1] = p[1];
             key_points[3 * key + 2] = p[2];
-            magnitude = std::max({magnitude, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
+            magnitude = std::max(magnitude, sample_magnitude(mesh, v, k));
         }
         storage.vertex_magnitude[static_cast<size_t>(v)] = magnitude;
     }
