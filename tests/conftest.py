@@ -31,3 +31,12 @@ def shared_data():
 def samples_dir():
     """The small shots shipped in samples/."""
     return REPO_ROOT / "samples"
+
+
+@pytest.fixture(scope="session")
+def newton_twist_path(shared_data):
+    """The third-party Newton cloth-twist cache in the shared data, read in place; skips when absent."""
+    path = shared_data / "newton" / "newton_viewerusd_cloth_twist.usd"
+    if not path.is_file():
+        pytest.skip(f"{path} not found")
+    return path

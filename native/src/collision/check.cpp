@@ -312,8 +312,13 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                 }
                 const Scene raw_local(*raw_scene);
                 // Up to the check's end, not the window's: a later window
-                // may have left the pair to this one (WindowFindings).
-                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, windows[w]->begin, options.t_end,
+                // may have left the pair to this one (WindowFindings). From
+                // the check's begin, not the window's: a pair found at a
+                // window's begin is tested on the raw steps around it as a
+                // whole run tests it, not held still there, which only the
+                // check's begin asks for (at a thickness above 0 the two
+                // can differ by the narrow phase's rounding bound).
+                parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, options.t_begin, options.t_end,
                                                 part_counters[k], progress.for_window(*windows[w]));
             });
             for (int32_t k = 0; k < chunks; ++k) {
