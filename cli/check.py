@@ -48,7 +48,7 @@ def _echo(line: str) -> None:
 @click.option("--tolerance", type=float, default=DEFAULT_TOLERANCE, show_default=True,
               help="Time tolerance of the continuous narrow phase, as a fraction of a sample interval.")
 @click.option("--thickness", type=float, default=DEFAULT_THICKNESS, show_default=True,
-              help="Report primitives closer than this distance (scene units) as touching.")
+              help="Report primitives within this Euclidean distance (scene units) of each other as touching.")
 @click.option("--self/--no-self", "self_check", default=True, show_default=True,
               help="Self contacts of deforming meshes.")
 @click.option("--inter/--no-inter", "inter_check", default=True, show_default=True,

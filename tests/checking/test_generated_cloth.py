@@ -54,9 +54,10 @@ def test_same_pairs_as_brute_force_and_never_later(generated_shot, method):
 
 @pytest.fixture(scope="module")
 def swirl_near_miss(tmp_path_factory):
-    """Two faces of the 16k swirl at 10 samples/keyframe whose closest approach (5.7e-7 scene units near
-    time code 47.504) is below the root finder's cube acceptance on one-sample steps but above the contact
-    distance: the benchmark grid's swept run reported them, KSL did not."""
+    """Two faces of the 16k swirl at 10 samples/keyframe whose closest approach (5.57e-7 scene units,
+    Euclidean, near time code 47.504: scipy's bounded minimum of ipctk's distances) is below the root
+    finder's cube acceptance on one-sample steps but above the contact distance: the benchmark grid's
+    swept run reported them, KSL did not."""
     from types import SimpleNamespace
     out = tmp_path_factory.mktemp("swirl16k") / "swirl.usdc"
     subprocess.run([sys.executable, str(REPO_ROOT / "samples" / "generate.py"), "swirl", "--faces", "16000",
@@ -75,7 +76,10 @@ def test_ksl_reports_the_swirl_near_miss_whenever_brute_force_does(swirl_near_mi
         return set(contacts_by_pair(find_contacts([swirl_near_miss], [(0, 0)], method=method,
                                                   tolerance=TOLERANCE, thickness=thickness)))
     assert not pairs("brute", 0.0), "the faces never touch on the raw samples"
-    for thickness in (5e-7, 6e-7, 1e-6):
+    # Above thickness 0 "within" is Euclidean: 5e-7 is below the faces' closest approach.
+    for thickness in (0.0, 5e-7):
+        assert not pairs("brute", thickness) and not pairs("ksl", thickness), thickness
+    for thickness in (6e-7, 1e-6):
         reference = pairs("brute", thickness)
         assert reference, f"within {thickness:g} of each other the faces count as touching"
         assert reference <= pairs("ksl", thickness), f"KSL misses what brute force finds at {thickness:g}"

@@ -45,8 +45,9 @@ constexpr PairIndices EDGE_EDGE_PAIRS{0, 2, 0, 1, 3, 2};
 /// per world axis, and projected on each separating direction (corner index
 /// it*4 + iu*2 + iv).
 struct BoxImage {
-    /// Up to 4 chosen once per search, 3 more per box (add_box_directions).
-    static constexpr int MAX_DIRECTIONS = 7;
+    /// Up to 4 chosen once per search, 3 more per box (add_box_directions)
+    /// and, above thickness 0, the box's closest-point direction.
+    static constexpr int MAX_DIRECTIONS = 8;
     double corner[2][2][2][3];
     double projected[MAX_DIRECTIONS][8];
     /// Per world axis: the hull of the float corner values.
@@ -174,6 +175,11 @@ public:
             for (int i = 1; i < 4; ++i)
                 vanishes_[k] = vanishes_[k] && start_[i][k] == start_[0][k] && end_[i][k] == end_[0][k];
         }
+        euclidean_ = thickness > 0.0;
+        double error_squared = 0.0;
+        for (int k = 0; k < 3; ++k) error_squared += error[k] * error[k];
+        const double ball_reach = (thickness + std::sqrt(error_squared)) * CCD_BOUND_INFLATION;
+        ball_reach_squared_ = ball_reach * ball_reach * CCD_BOUND_INFLATION;
         exact_possible_ = finite && std::isfinite(thickness) &&
                           std::max({max_abs[0], max_abs[1], max_abs[2], thickness}) <= EXACT_CHECK_MAX_MAGNITUDE;
         for (int k = 0; k < 3; ++k) max_abs_[k] = max_abs[k];
@@ -199,11 +205,14 @@ public:
     /// order, and likewise n_u, n_v). Clipping along them narrows every
     /// parameter to second-order terms of the box's widths, where the world
     /// axes and the fixed directions narrow it only by a constant factor per
-    /// split (the face normal turns during the step). Their bounds hold the
-    /// whole thickness cube (DirectionBound::Cube), so they exclude nothing
-    /// the world axes accept: what a search accepts stays the same whatever
-    /// the motion (a still pair gets none of them), only found sooner.
-    /// Appended after the search's own directions (ensure_directions first).
+    /// split (the face normal turns during the step). At thickness 0 their
+    /// bounds hold the whole thickness cube (DirectionBound::Cube), so they
+    /// exclude nothing the world axes accept: what a search accepts stays the
+    /// same whatever the motion (a still pair gets none of them), only found
+    /// sooner. Above 0 the contact region is the thickness ball, which the
+    /// final decision tests along the closest-point direction, so they take
+    /// the ball's tighter bound. Appended after the search's own directions
+    /// (ensure_directions first).
     void add_box_directions(const ParameterBox& box) {
         const double t = 0.5 * (box.t_lo + box.t_hi);
         const double u = 0.5 * (box.u_lo + box.u_hi);
@@ -220,9 +229,164 @@ public:
         // rows: the directions would separate no better than the fixed ones.
         const double volume = std::abs(isolates_t.dot(along_t));
         if (!(volume > BOX_DIRECTIONS_MIN_SINE * isolates_t.norm() * along_t.norm())) return;
-        add_direction(isolates_t, thickness_, corner_error_, max_abs_, DirectionBound::Cube);
-        add_direction(along_v.cross(along_t), thickness_, corner_error_, max_abs_, DirectionBound::Cube);
-        add_direction(along_t.cross(along_u), thickness_, corner_error_, max_abs_, DirectionBound::Cube);
+        const DirectionBound bound = euclidean_ ? DirectionBound::Euclidean : DirectionBound::Cube;
+        add_direction(isolates_t, thickness_, corner_error_, max_abs_, bound);
+        add_direction(along_v.cross(along_t), thickness_, corner_error_, max_abs_, bound);
+        add_direction(along_t.cross(along_u), thickness_, corner_error_, max_abs_, bound);
+    }
+
+    /// The part of a box's (u, v) range inside the parameter domain, as a
+    /// convex polygon (counter-clockwise): the range itself for edge-edge,
+    /// cut by u + v <= 1 for vertex-face (up to 5 vertices). Cut points are
+    /// rounded away from the domain, so the polygon holds the exact part.
+    struct DomainPolygon {
+        int count = 0;
+        double u[5], v[5];
+    };
+
+    DomainPolygon domain_polygon(const ParameterBox& box) const {
+        const double us[4] = {box.u_lo, box.u_hi, box.u_hi, box.u_lo};
+        const double vs[4] = {box.v_lo, box.v_lo, box.v_hi, box.v_hi};
+        DomainPolygon polygon;
+        for (int i = 0; i < 4; ++i) {
+            const bool inside = !is_vertex_face_ || us[i] + vs[i] <= 1.0;
+            if (inside) {
+                polygon.u[polygon.count] = us[i];
+                polygon.v[polygon.count++] = vs[i];
+            }
+            const int j = (i + 1) % 4;
+            const bool next_inside = !is_vertex_face_ || us[j] + vs[j] <= 1.0;
+            if (inside == next_inside || polygon.count >= 5) continue;
+            // The side runs along u (v fixed) or along v (u fixed).
+            const bool along_u = vs[i] == vs[j];
+            polygon.u[polygon.count] = along_u ? std::nextafter(1.0 - vs[i], INFINITY) : us[i];
+            polygon.v[polygon.count++] = along_u ? vs[i] : std::nextafter(1.0 - us[i], INFINITY);
+        }
+        return polygon;
+    }
+
+    /// Above thickness 0: the direction from the origin to the point of F's
+    /// image nearest to it at the box's middle time (over the box's part of
+    /// the domain), so that the box's slab along it measures its Euclidean
+    /// distance from the origin to first order. This slab, bounded by the
+    /// thickness ball, is what makes the accepted region the ball rather than
+    /// the cube the world axes bound: a box no direction excludes is narrowed
+    /// to the tolerance, where its hull lies within the thickness of the
+    /// origin along this direction, up to rounding and the box's size.
+    void add_closest_point_direction(const ParameterBox& box) {
+        const TermsAtTime at = terms_at(0.5 * (box.t_lo + box.t_hi));
+        const Vec3 w(at.w[0], at.w[1], at.w[2]);
+        const Vec3 e1(at.e1[0], at.e1[1], at.e1[2]);
+        const Vec3 e2(at.e2[0], at.e2[1], at.e2[2]);
+        add_direction(nearest_in_polygon(w, e1, e2, domain_polygon(box)), thickness_, corner_error_, max_abs_,
+                      DirectionBound::Euclidean);
+    }
+
+    /// The point w - u e1 - v e2 nearest the origin over (u, v) in a convex
+    /// polygon (a convex quadratic: the free minimum when it lies inside,
+    /// else the nearest point of the sides, each a clamped 1-D minimum).
+    static Vec3 nearest_in_polygon(const Vec3& w, const Vec3& e1, const Vec3& e2, const DomainPolygon& polygon) {
+        const double a = e1.squaredNorm(), b = e1.dot(e2), c = e2.squaredNorm();
+        const double det = a * c - b * b;
+        if (det > NEAREST_POINT_MIN_SINE_SQUARED * a * c) {
+            const double d = w.dot(e1), e = w.dot(e2);
+            const double u = (c * d - b * e) / det;
+            const double v = (a * e - b * d) / det;
+            bool inside = true;
+            for (int i = 0; i < polygon.count && inside; ++i) {
+                const int j = (i + 1) % polygon.count;
+                const double cross = (polygon.u[j] - polygon.u[i]) * (v - polygon.v[i]) -
+                                     (polygon.v[j] - polygon.v[i]) * (u - polygon.u[i]);
+                inside = cross >= 0.0;
+            }
+            if (inside) return w - u * e1 - v * e2;
+        }
+        Vec3 best = w - polygon.u[0] * e1 - polygon.v[0] * e2;
+        for (int i = 0; i < polygon.count; ++i) {
+            const int j = (i + 1) % polygon.count;
+            const Vec3 from = w - polygon.u[i] * e1 - polygon.v[i] * e2;
+            const Vec3 side = (w - polygon.u[j] * e1 - polygon.v[j] * e2) - from;
+            const double length_squared = side.squaredNorm();
+            const double s = length_squared > 0.0 ? std::clamp(-from.dot(side) / length_squared, 0.0, 1.0) : 0.0;
+            const Vec3 p = from + s * side;
+            if (p.squaredNorm() < best.squaredNorm()) best = p;
+        }
+        return best;
+    }
+
+    /// A vertex-face box reaching past the face's edge u + v = 1 (its corner
+    /// (u_hi, v_hi) lies outside the face).
+    bool crosses_face_edge(const ParameterBox& box) const { return is_vertex_face_ && box.u_hi + box.v_hi > 1.0; }
+
+    /// F at the vertices of a box's domain polygon, at t_lo and t_hi.
+    struct FaceImage {
+        DomainPolygon polygon;
+        double values[2][5][3];
+    };
+
+    FaceImage face_image(const ParameterBox& box) const {
+        FaceImage face;
+        face.polygon = domain_polygon(box);
+        for (int it = 0; it < 2; ++it) {
+            const TermsAtTime at = terms_at(it == 0 ? box.t_lo : box.t_hi);
+            for (int i = 0; i < face.polygon.count; ++i) {
+                for (int k = 0; k < 3; ++k)
+                    face.values[it][i][k] = at.w[k] - face.polygon.u[i] * at.e1[k] - face.polygon.v[i] * at.e2[k];
+            }
+        }
+        return face;
+    }
+
+    /// Narrows [lower, upper] (fractions of a vertex-face box's time range
+    /// reaching past the face's edge) to where a root inside the face can
+    /// lie: at any time F over the domain polygon ranges between its values
+    /// at the polygon's vertices (F is affine in (u, v)), each linear in t, so
+    /// clip_constraint's rule holds with those lines in place of the box's
+    /// edges along t. The box's corners beyond the edge cannot pin its early
+    /// end where the face's nearest point lies on that edge (Newton's cards
+    /// beside each other's diagonal: a box's time range then shrank by 1/64
+    /// per split, over 10^5 boxes a query).
+    void clip_time_within_face(const ParameterBox& box, double& lower, double& upper) const {
+        const FaceImage face = face_image(box);
+        const int count = face.polygon.count;
+        double values[10];
+        auto narrow = [&](double bound) {
+            if (!holds_everywhere(values, 2 * count, bound))
+                narrow_to_lines(values, values + count, count, bound, lower, upper);
+        };
+        for (int k = 0; k < 3; ++k) {
+            for (int i = 0; i < count; ++i) {
+                values[i] = face.values[0][i][k];
+                values[count + i] = face.values[1][i][k];
+            }
+            narrow(bound_[k]);
+        }
+        for (int d = 0; d < direction_count_; ++d) {
+            const double* n = directions_[d].n;
+            for (int it = 0; it < 2; ++it) {
+                for (int i = 0; i < count; ++i) {
+                    const double* f = face.values[it][i];
+                    values[it * count + i] = n[0] * f[0] + n[1] * f[1] + n[2] * f[2];
+                }
+            }
+            narrow(directions_[d].bound);
+        }
+    }
+
+    /// Above thickness 0: a corner of the box at its earliest time, inside
+    /// the parameter domain, whose float value lies within the thickness ball
+    /// widened by its rounding bound: F is that close at time t_lo.
+    bool corner_in_ball_at_start(const ParameterBox& box, const double corner[2][2][2][3]) const {
+        const double us[2] = {box.u_lo, box.u_hi};
+        const double vs[2] = {box.v_lo, box.v_hi};
+        for (int iu = 0; iu < 2; ++iu) {
+            for (int iv = 0; iv < 2; ++iv) {
+                if (is_vertex_face_ && us[iu] + vs[iv] > 1.0) continue;
+                const double* f = corner[0][iu][iv];
+                if (f[0] * f[0] + f[1] * f[1] + f[2] * f[2] <= ball_reach_squared_) return true;
+            }
+        }
+        return false;
     }
 
     TermsAtTime terms_at(double t) const {
@@ -280,12 +444,17 @@ public:
             axis_lo[k] = lo;
             axis_hi[k] = hi;
         }
-        if (inside) return excluded_exactly(box, image) ? Verdict::Excluded : Verdict::Inside;
+        // Above thickness 0 the contact region is the ball, which a box
+        // inside the cube need not meet; a corner at its earliest time inside
+        // the ball is a contact then.
+        if (euclidean_ ? corner_in_ball_at_start(box, corner) : inside)
+            return excluded_exactly(box, image) ? Verdict::Excluded : Verdict::Inside;
         ensure_directions();
         auto& projected = image.projected;
         direction_count_ = search_direction_count_;
         if (excluded_by_directions(corner, projected, 0)) return Verdict::Excluded;
         add_box_directions(box);
+        if (euclidean_) add_closest_point_direction(box);
         if (excluded_by_directions(corner, projected, search_direction_count_)) return Verdict::Excluded;
 
         variation[0] = variation[1] = variation[2] = 0.0;
@@ -515,6 +684,7 @@ public:
         }
         for (int i = 0; i < direction_count_; ++i)
             clip_constraint(image.projected[i], directions_[i].bound, lower, upper);
+        if (euclidean_ && crosses_face_edge(box)) clip_time_within_face(box, lower[0], upper[0]);
         double* ends[3][2] = {{&box.t_lo, &box.t_hi}, {&box.u_lo, &box.u_hi}, {&box.v_lo, &box.v_hi}};
         for (int p = 0; p < 3; ++p) {
             if (lower[p] > upper[p]) return false;
@@ -540,40 +710,59 @@ private:
     /// p) with the range where constraint |g| <= bound can hold, g given by
     /// its 8 corner values (index it*4 + iu*2 + iv).
     static void clip_constraint(const double g[8], double bound, double lower[3], double upper[3]) {
-        bool within = true;
-        for (int c = 0; c < 8; ++c) {
-            if (!std::isfinite(g[c])) return;
-            within = within && g[c] <= bound && g[c] >= -bound;
-        }
-        // Every edge then holds the constraint over its whole length.
-        if (within) return;
+        if (holds_everywhere(g, 8, bound)) return;
         for (int p = 0; p < 3; ++p) {
             const int bit = 4 >> p;
-            // Earliest / latest fraction where some edge is <= bound, and
-            // where some edge is >= -bound.
-            double first_below = INFINITY, last_below = -INFINITY;
-            double first_above = INFINITY, last_above = -INFINITY;
+            double from[4], to[4];
+            int count = 0;
             for (int c = 0; c < 8; ++c) {
                 if (c & bit) continue;
-                const double a = g[c], b = g[c | bit];
-                if (a <= bound) {
-                    first_below = 0.0;
-                    last_below = std::max(last_below, b <= bound ? 1.0 : (bound - a) / (b - a));
-                } else if (b <= bound) {
-                    first_below = std::min(first_below, (a - bound) / (a - b));
-                    last_below = 1.0;
-                }
-                if (a >= -bound) {
-                    first_above = 0.0;
-                    last_above = std::max(last_above, b >= -bound ? 1.0 : (a + bound) / (a - b));
-                } else if (b >= -bound) {
-                    first_above = std::min(first_above, (-bound - a) / (b - a));
-                    last_above = 1.0;
-                }
+                from[count] = g[c];
+                to[count++] = g[c | bit];
             }
-            lower[p] = std::max({lower[p], first_below, first_above});
-            upper[p] = std::min({upper[p], last_below, last_above});
+            narrow_to_lines(from, to, count, bound, lower[p], upper[p]);
         }
+    }
+
+    /// True when all `count` values of a constraint lie within [-bound, bound]
+    /// (every line between them then holds it over its whole length), or one
+    /// is not finite (nothing can be cut then).
+    static bool holds_everywhere(const double* g, int count, double bound) {
+        bool within = true;
+        for (int c = 0; c < count; ++c) {
+            if (!std::isfinite(g[c])) return true;
+            within = within && g[c] <= bound && g[c] >= -bound;
+        }
+        return within;
+    }
+
+    /// Intersects [lower, upper] (fractions along one parameter) with the
+    /// range where some of `count` lines, from from[i] to to[i], is <= bound
+    /// and some is >= -bound: F at any value of the parameter ranges between
+    /// the lines' values there, so a root needs both.
+    static void narrow_to_lines(const double* from, const double* to, int count, double bound, double& lower,
+                                double& upper) {
+        double first_below = INFINITY, last_below = -INFINITY;
+        double first_above = INFINITY, last_above = -INFINITY;
+        for (int i = 0; i < count; ++i) {
+            const double a = from[i], b = to[i];
+            if (a <= bound) {
+                first_below = 0.0;
+                last_below = std::max(last_below, b <= bound ? 1.0 : (bound - a) / (b - a));
+            } else if (b <= bound) {
+                first_below = std::min(first_below, (a - bound) / (a - b));
+                last_below = 1.0;
+            }
+            if (a >= -bound) {
+                first_above = 0.0;
+                last_above = std::max(last_above, b >= -bound ? 1.0 : (a + bound) / (a - b));
+            } else if (b >= -bound) {
+                first_above = std::min(first_above, (-bound - a) / (b - a));
+                last_above = 1.0;
+            }
+        }
+        lower = std::max({lower, first_below, first_above});
+        upper = std::min({upper, last_below, last_above});
     }
 
     struct Direction {
@@ -603,6 +792,13 @@ private:
     /// coordinate at every time and F's component is exactly zero.
     bool vanishes_[3];
     double thickness_ = 0.0;
+    /// Thickness above 0: the contact region is the Euclidean ball of that
+    /// radius (at 0 the ball and the cube the world axes bound are the origin).
+    bool euclidean_ = false;
+    /// Squared radius a float corner value's length must stay within to be a
+    /// contact: the thickness plus the corner's rounding bound, inflated for
+    /// the rounding of the sum and the squares (scene units squared).
+    double ball_reach_squared_ = 0.0;
     bool exact_possible_ = false;
     PairIndices pairs_;
     bool is_vertex_face_;

@@ -31,21 +31,26 @@ struct MultilinearDistance {
 };
 
 /// @brief Earliest time in [0, t_max) (fraction of the step) at which the
-///        distance function may come within settings.thickness (per axis,
-///        hence never missing a Euclidean contact), found by clipping and
-///        subdividing the (t,u,v) box earliest-time first until the box is
-///        narrower than settings.tolerance in t, and in u and v than the same
-///        tolerance or, for an edge far shorter than the query's reach, the
-///        same spatial resolution (see parameter_tolerances). Conservative:
-///        boxes are only discarded, and only clipped, where their corner
-///        values, inflated by a rounding-error bound derived from the input
-///        magnitude, rule out the thickness cube or a separating slab, or
-///        where their exact corner values (error-free arithmetic, tried only
-///        when the float hull lies within that bound of the cube) rule out
-///        the cube on some axis: a near miss closer than the rounding bound
-///        is not a contact, a touch at distance exactly thickness is. For
-///        vertex-face pairs the root search picks which face corner is the
-///        (u,v) origin (the face is the same point set either way).
+///        distance function may come within settings.thickness (Euclidean
+///        distance, scene units), found by clipping and subdividing the
+///        (t,u,v) box earliest-time first until the box is narrower than
+///        settings.tolerance in t, and in u and v than the same tolerance or,
+///        for an edge far shorter than the query's reach, the same spatial
+///        resolution (see parameter_tolerances). Conservative: boxes are only
+///        discarded, and only clipped, where their corner values, inflated by
+///        a rounding-error bound derived from the input magnitude, rule out
+///        the thickness cube per world axis or the thickness ball along a
+///        separating direction, or where their exact corner values
+///        (error-free arithmetic, tried only when the float hull lies within
+///        that bound of the cube) rule out the cube on some axis: a near miss
+///        closer than the rounding bound is not a contact, a touch at
+///        distance exactly thickness is. Above thickness 0 every box gets the
+///        direction to its point nearest the origin, so a box that answers
+///        lies within the thickness ball up to rounding and its own size
+///        (the per-axis cube alone would accept pairs up to sqrt(3) x the
+///        thickness apart); at 0 the ball and the cube are both the origin.
+///        For vertex-face pairs the root search picks which face corner is
+///        the (u,v) origin (the face is the same point set either way).
 CCDResult find_earliest_root(const MultilinearDistance& f, const CCDSettings& settings,
                              double t_max, FinerSearchFork* fork = nullptr);
 

@@ -66,18 +66,25 @@ TEST(PairClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
 }
 
 TEST(PairClearance, AVertexOffTheCornerAlongTheDiagonalIsNotCleared) {
-    // The narrow phase counts primitive points within the thickness on every
-    // axis as touching: a vertex 0.9 thickness off a corner on each axis is
-    // a contact although 1.56 thicknesses away. No certificate may clear it.
-    const double thickness = 0.05, e = 0.9 * thickness;
+    // A vertex off a corner along the diagonal, where the per-axis gaps are
+    // the smallest fraction of the distance: 0.55 thickness on each axis is
+    // 0.95 thickness away, a contact. No certificate may clear it.
+    const double thickness = 0.05;
     const Positions a{Vec3(0, 0, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)};
-    const Positions b{Vec3(e, e, e), Vec3(e + 1, e, e + 1), Vec3(e, e + 1, e + 1)};
+    const auto off_the_corner = [](double e) {
+        return Positions{Vec3(e, e, e), Vec3(e + 1, e, e + 1), Vec3(e, e + 1, e + 1)};
+    };
     CCDSettings settings;
     settings.thickness = thickness;
+    const Positions b = off_the_corner(0.55 * thickness);
     ASSERT_TRUE(triangle_pair_ccd({{0, 1, 2}, a, a}, {{3, 4, 5}, b, b}, false, settings).hit);
     PairClearance clearance;
     clearance.start({0, 1, 2}, a, {3, 4, 5}, b, false, thickness, settings.tolerance, kMagnitude);
     EXPECT_FALSE(clearance.holds_at(a, b));
+    // 0.9 thickness on each axis fits the per-axis cube but is 1.56
+    // thicknesses away: not a contact (Euclidean, issue 14).
+    const Positions apart = off_the_corner(0.9 * thickness);
+    EXPECT_FALSE(triangle_pair_ccd({{0, 1, 2}, a, a}, {{3, 4, 5}, apart, apart}, false, settings).hit);
 }
 
 TEST(SweptApart, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {

@@ -81,6 +81,7 @@ constexpr double CLIP_AGAIN_BELOW_KEPT_VOLUME = 0.5;
 constexpr double FACE_ORIGIN_NEAR_EDGE_WEIGHT = 0.05;
 constexpr double FACE_ORIGIN_WIDE_EDGE_RATIO = 0.7;
 
+
 /// @brief How many times finer than (tolerance x the query's largest reach)
 ///        the root finder resolves the face or edge parameters spatially
 ///        (dimensionless). A parameter is refined to the parametric tolerance
@@ -109,6 +110,13 @@ constexpr double BOX_DIRECTIONS_MIN_SINE = 1e-3;
 ///        end about a third of that. 1/64 took the fewest boxes on the hits
 ///        of the Newton caches and the generated tablecloth (1/2 to 1/256 tried).
 constexpr double TIME_SPLIT_FRACTION = 1.0 / 64.0;
+
+/// @brief Smallest squared sine of the angle between a box's two (u, v) rates
+///        for which its closest-point direction takes the free minimum of
+///        |F|^2 over (u, v); below it (parallel edges, a sliver) the range's
+///        sides alone are searched (dimensionless; a direction is only a
+///        choice of slab, so this never affects conservativeness).
+constexpr double NEAREST_POINT_MIN_SINE_SQUARED = 1e-12;
 
 /// @brief Smallest tolerance (interval fraction) the root finder accepts;
 ///        finer requests are raised to it so refinement always terminates.
