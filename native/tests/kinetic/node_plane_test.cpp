@@ -62,9 +62,12 @@ TEST(NodePlane, TheReachCoversBothNodesBoxesOverTheStep) {
     StepBoxTree tree_a(plans_a, lower.triangles, 0.0), tree_b(plans_b, upper.triangles, 0.0);
     tree_a.fit(0.0, 1.0);
     tree_b.fit(0.0, 1.0);
-    // Twice the contact distance, plus the size fraction of the pair's box
-    // diagonal (about sqrt(2) for two unit cards, tilted).
-    const double reach = node_pair_reach(tree_a, 0, tree_b, 0, 0.001, DEFAULT_CCD_TOLERANCE);
-    EXPECT_GT(reach, 0.002 + clearance_size_fraction(DEFAULT_CCD_TOLERANCE) * 1.4);
-    EXPECT_LT(reach, 0.002 + clearance_size_fraction(DEFAULT_CCD_TOLERANCE) * 2.0);
+    // The contact distance times the narrow phase's reach, plus the size
+    // fraction of the pair's box diagonal (about sqrt(2) for two unit cards,
+    // tilted).
+    const double contact_distance = 0.001;
+    const double reach = node_pair_reach(tree_a, 0, tree_b, 0, contact_distance, DEFAULT_CCD_TOLERANCE);
+    const double narrow_phase_reach = PAIR_CLEARANCE_CONTACT_REACH * contact_distance;
+    EXPECT_GT(reach, narrow_phase_reach + clearance_size_fraction(DEFAULT_CCD_TOLERANCE) * 1.4);
+    EXPECT_LT(reach, narrow_phase_reach + clearance_size_fraction(DEFAULT_CCD_TOLERANCE) * 2.0);
 }

@@ -26,11 +26,11 @@ constexpr double PAIR_CLEARANCE_SIZE_FRACTION = 1.0 / 1024.0;
 constexpr double PAIR_CLEARANCE_TOLERANCE_FACTOR = 64.0;
 
 /// @brief How far (in multiples of the contact distance, Euclidean) the narrow
-///        phase may report a contact: it looks for the difference of two
-///        primitive points within the contact distance on every axis (a cube,
-///        whose corners lie sqrt(3) times as far), so a certificate must keep
-///        the pair farther than that. sqrt(3) rounded up.
-constexpr double PAIR_CLEARANCE_CONTACT_REACH = 2.0;
+///        phase may report a contact, beyond the box-size and rounding slack
+///        the other terms cover: it decides Euclidean distance (until session
+///        19 it accepted a per-axis cube, whose corners lie sqrt(3) times as
+///        far, and this was 2).
+constexpr double PAIR_CLEARANCE_CONTACT_REACH = 1.0;
 
 /// @brief Rounding allowance relative to the largest absolute coordinate seen.
 constexpr double PAIR_CLEARANCE_ROUNDING = 1e-9;
