@@ -40,6 +40,7 @@ EMBEDDED_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_benc
                    "KSL against swept at one thread on the Newton caches (benchmarks/ksl_vs_swept.py)"),
                   ("threads.md", "One thread against two on the largest Newton cache (benchmarks/ksl_vs_swept.py)"),
                   ("exact_times.md", "Reported times against a tight reference (benchmarks/peer_ipctk.py)"),
+                  ("thickness.md", "Thickness above 0: what it costs and what it measures (benchmarks/thickness.py)"),
                   ("scale.md", "10k to 1M faces (benchmarks/scale.py)"))
 #: benchmarks/ksl_vs_swept.py --baseline-python: KSL of the core before and after a change on a subset of
 #: the keyframed grid, in one run; embedded right after the grid it checks.
