@@ -7,9 +7,8 @@
 ///        search's per-axis cube alone would accept pairs up to sqrt(3)
 ///        thicknesses apart.
 
-#include "usdksl/ccd/edge_edge_ccd.hpp"
-#include "usdksl/ccd/vertex_face_ccd.hpp"
 #include "usdksl/geometry/primitive_distance.hpp"
+#include "near_queries.hpp"
 
 #include <gtest/gtest.h>
 
@@ -28,30 +27,12 @@ constexpr int kTrials = 4000;
 /// speed and size (both below 3 here); the cube's excess reaches 0.7 x 0.3.
 constexpr double kSpatialSlack = 1e-4;
 
-struct Query {
-    std::array<Vec3, 4> start, end;
-    double thickness;
-};
+using Query = test_queries::NearQuery;
 
-Vec3 random_point(std::mt19937_64& random, double spread) {
-    std::uniform_real_distribution<double> coordinate(-spread, spread);
-    return Vec3(coordinate(random), coordinate(random), coordinate(random));
-}
-
-/// A unit-sized pair, the first primitive moved next to the second, then
-/// shifted by up to 0.4 in a random direction (diagonal to the axes mostly),
-/// moving by up to 0.3; thickness up to 0.3.
+/// A near query (see near_query) with a thickness from 0.01 to 0.3.
 Query near_query(std::mt19937_64& random, bool edge_edge) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    Query q;
-    for (int i = 0; i < 4; ++i) q.start[i] = random_point(random, 1.0);
-    const Vec3 target = edge_edge ? Vec3(0.5 * (q.start[2] + q.start[3]))
-                                  : Vec3((q.start[1] + q.start[2] + q.start[3]) / 3.0);
-    const Vec3 offset = target - (edge_edge ? Vec3(0.5 * (q.start[0] + q.start[1])) : q.start[0]);
-    const Vec3 shift = random_point(random, 0.4);
-    for (int i = 0; i < (edge_edge ? 2 : 1); ++i) q.start[i] += offset + shift;
-    const double motion = 0.3 * unit(random);
-    for (int i = 0; i < 4; ++i) q.end[i] = q.start[i] + random_point(random, motion);
+    Query q = test_queries::near_query(random, edge_edge);
     q.thickness = 0.01 + 0.29 * unit(random);
     return q;
 }
@@ -68,13 +49,7 @@ void expect_contacts_within_the_thickness(bool edge_edge, uint64_t seed) {
     int hits_after_start = 0;
     for (int trial = 0; trial < kTrials; ++trial) {
         const Query q = near_query(random, edge_edge);
-        CCDSettings settings;
-        settings.thickness = q.thickness;
-        const auto& s = q.start;
-        const auto& e = q.end;
-        const CCDResult result = edge_edge
-                                     ? edge_edge_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings)
-                                     : vertex_face_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings);
+        const CCDResult result = test_queries::ccd_answer(q, edge_edge);
         if (!result.hit || result.undecided) continue;
         if (result.toi > 0.0) ++hits_after_start;
         ASSERT_LE(distance_at(q, edge_edge, result.toi), q.thickness + kSpatialSlack)

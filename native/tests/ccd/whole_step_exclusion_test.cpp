@@ -5,8 +5,7 @@
 ///        the root search that trusts a bound too small (or a corner set too
 ///        small) answers "no contact" wrongly.
 
-#include "usdksl/ccd/edge_edge_ccd.hpp"
-#include "usdksl/ccd/vertex_face_ccd.hpp"
+#include "near_queries.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,37 +22,13 @@ constexpr int kTrials = 4000;
 /// Samples per parameter (t, u, v) of the check.
 constexpr int kSamples = 24;
 
-struct Query {
-    std::array<Vec3, 4> start, end;
-    double thickness;
-};
+using Query = test_queries::NearQuery;
 
-Vec3 random_point(std::mt19937_64& random, double spread) {
-    std::uniform_real_distribution<double> coordinate(-spread, spread);
-    return Vec3(coordinate(random), coordinate(random), coordinate(random));
-}
-
-/// Four points of a unit-sized primitive pair whose distance function
-/// passes about `gap` from the origin, moving by up to `motion`.
+/// A near query (see near_query) with no thickness a quarter of the time,
+/// else up to 0.3: its distance function passes about that far from the origin.
 Query grazing_query(std::mt19937_64& random, bool edge_edge) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    Query q;
-    for (int i = 0; i < 4; ++i) q.start[i] = random_point(random, 1.0);
-    // Pull the first point (vertex, or first edge) next to the other primitive.
-    const Vec3 target = edge_edge ? Vec3(0.5 * (q.start[2] + q.start[3]))
-                                  : Vec3((q.start[1] + q.start[2] + q.start[3]) / 3.0);
-    const Vec3 offset = target - (edge_edge ? Vec3(0.5 * (q.start[0] + q.start[1])) : q.start[0]);
-    q.start[0] += offset;
-    if (edge_edge) q.start[1] += offset;
-    const double motion = 0.3 * unit(random);
-    for (int i = 0; i < 4; ++i) q.end[i] = q.start[i] + random_point(random, motion);
-    // A random translation of the first primitive puts the pair near, on
-    // either side of, or through the other.
-    const Vec3 shift = random_point(random, 0.4);
-    for (int i = 0; i < (edge_edge ? 2 : 1); ++i) {
-        q.start[i] += shift;
-        q.end[i] += shift;
-    }
+    Query q = test_queries::near_query(random, edge_edge);
     q.thickness = random() % 4 == 0 ? 0.0 : 0.3 * unit(random);
     return q;
 }
@@ -89,13 +64,7 @@ void expect_no_missed_sample(bool edge_edge, uint64_t seed) {
     int misses_near_contact = 0;
     for (int trial = 0; trial < kTrials; ++trial) {
         const Query q = grazing_query(random, edge_edge);
-        CCDSettings settings;
-        settings.thickness = q.thickness;
-        const auto& s = q.start;
-        const auto& e = q.end;
-        const CCDResult result = edge_edge
-                                     ? edge_edge_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings)
-                                     : vertex_face_ccd(s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], settings);
+        const CCDResult result = test_queries::ccd_answer(q, edge_edge);
         if (result.hit) continue;
         const double distance = sampled_distance(q, edge_edge);
         ASSERT_GT(distance, q.thickness) << "trial " << trial << ": no contact answered, yet a sample is within the thickness";
