@@ -24,21 +24,15 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ksl_vs_swept import checked_pairs, git_revision, load_meshes  # noqa: E402
-
-
-def positions(mesh, time_code):
-    if len(mesh.times) == 1:
-        return mesh.points[0].astype(float)
-    j = min(max(int(np.searchsorted(mesh.times, time_code, side="right")) - 1, 0), len(mesh.times) - 2)
-    a = (time_code - mesh.times[j]) / (mesh.times[j + 1] - mesh.times[j])
-    return (1.0 - a) * mesh.points[j].astype(float) + a * mesh.points[j + 1].astype(float)
+from peer_ipctk import _mesh_points_at  # noqa: E402
 
 
 def triangle_pair_distance(mesh_a, tri_a, mesh_b, tri_b, time_code, same_mesh):
     """Euclidean distance between two triangles at a time, over the primitive pairs the check tests."""
     import ipctk
     ia, ib = mesh_a.triangles[tri_a], mesh_b.triangles[tri_b]
-    a, b = positions(mesh_a, time_code)[ia], positions(mesh_b, time_code)[ib]
+    at = np.array([time_code])
+    a, b = _mesh_points_at(mesh_a, at)[0][ia], _mesh_points_at(mesh_b, at)[0][ib]
     best = math.inf
     for i in range(3):
         if not (same_mesh and ia[i] in ib):

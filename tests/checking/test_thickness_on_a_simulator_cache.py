@@ -6,16 +6,17 @@ The per-axis measure the narrow phase used before put this shot's first contact 
 """
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from usdksl import load_shot
-from usdksl.checking.collision import find_contacts
-
 ipctk = pytest.importorskip("ipctk")
+# The thickness benchmark's independent distance check (ipctk's point-triangle and segment-segment).
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+from thickness import triangle_pair_distance  # noqa: E402
 
-THICKNESS = 0.01
 #: Reported pairs whose distance at their time is checked.
 SAMPLED_PAIRS = 40
 #: A reported time is the start of a time box of the search's tolerance; over it the sheet moves by
@@ -23,66 +24,40 @@ SAMPLED_PAIRS = 40
 RELATIVE_SLACK = 1e-6
 
 
-@pytest.fixture(scope="module")
-def twist(newton_twist_path):
-    mesh = load_shot(newton_twist_path).meshes[0]
-    return mesh, find_contacts([mesh], [(0, 0)], thickness=THICKNESS)
-
-
-def positions(mesh, time):
-    j = min(max(int(np.searchsorted(mesh.times, time, side="right")) - 1, 0), len(mesh.times) - 2)
-    a = (time - mesh.times[j]) / (mesh.times[j + 1] - mesh.times[j])
-    return (1.0 - a) * mesh.points[j].astype(float) + a * mesh.points[j + 1].astype(float)
-
-
-def triangle_pair_distance(mesh, points, tri_a, tri_b):
-    """Euclidean distance between two triangles of one mesh over their primitive pairs that share no vertex."""
-    ia, ib = mesh.triangles[tri_a], mesh.triangles[tri_b]
-    a, b = points[ia], points[ib]
-    best = math.inf
-    for i in range(3):
-        if ia[i] not in ib:
-            best = min(best, ipctk.point_triangle_distance(a[i], *b))
-        if ib[i] not in ia:
-            best = min(best, ipctk.point_triangle_distance(b[i], *a))
-        for j in range(3):
-            if {ia[i], ia[(i + 1) % 3]} & {ib[j], ib[(j + 1) % 3]}:
-                continue
-            best = min(best, ipctk.edge_edge_distance(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3]))
-    return math.sqrt(best)
-
-
-def sheet_distance_at_frames(mesh):
-    """ipctk's minimum distance over the sheet at each sample (adjacent primitives excluded)."""
+def sheet_distance_at_frames(mesh, reach):
+    """ipctk's minimum distance over the sheet at each sample (adjacent primitives excluded), where
+    it is below `reach`; infinite elsewhere."""
     triangles = mesh.triangles.astype(np.int32)
     collision_mesh = ipctk.CollisionMesh(mesh.points[0].astype(float), ipctk.edges(triangles), triangles)
     distances = []
     for points in mesh.points:
         collisions = ipctk.NormalCollisions()
-        collisions.build(collision_mesh, points.astype(float), 2 * THICKNESS)
+        collisions.build(collision_mesh, points.astype(float), reach)
         distances.append(math.sqrt(collisions.compute_minimum_distance(collision_mesh, points.astype(float)))
                          if len(collisions) else math.inf)
     return np.array(distances)
 
 
-def test_reported_pairs_are_within_the_thickness_at_their_time(twist):
-    mesh, result = twist
+def test_reported_pairs_are_within_the_thickness_at_their_time(newton_twist_within_1cm):
+    twist = newton_twist_within_1cm
+    mesh, result, thickness = twist.mesh, twist.result, twist.thickness
     assert len(result) > 10000 and not result.undecided.any()
     rng = np.random.default_rng(19)
     for i in rng.choice(len(result), size=SAMPLED_PAIRS, replace=False):
-        time = float(result.time[i])
-        distance = triangle_pair_distance(mesh, positions(mesh, time), int(result.tri_a[i]), int(result.tri_b[i]))
-        assert distance <= THICKNESS * (1.0 + RELATIVE_SLACK), (time, int(result.tri_a[i]), int(result.tri_b[i]))
+        time, tri_a, tri_b = float(result.time[i]), int(result.tri_a[i]), int(result.tri_b[i])
+        distance = triangle_pair_distance(mesh, tri_a, mesh, tri_b, time, same_mesh=True)
+        assert distance <= thickness * (1.0 + RELATIVE_SLACK), (time, tri_a, tri_b)
 
 
-def test_the_first_contact_is_where_the_sheet_first_comes_within_the_thickness(twist):
-    mesh, result = twist
+def test_the_first_contact_is_where_the_sheet_first_comes_within_the_thickness(newton_twist_within_1cm):
+    twist = newton_twist_within_1cm
+    mesh, result, thickness = twist.mesh, twist.result, twist.thickness
     first = float(result.time.min())
-    by_frame = sheet_distance_at_frames(mesh)
-    within = np.flatnonzero(by_frame <= THICKNESS)
+    by_frame = sheet_distance_at_frames(mesh, 2 * thickness)
+    within = np.flatnonzero(by_frame <= thickness)
     assert within.size, "the sheet must come within the thickness"
     # Never later than the first sample where ipctk finds the sheet within it.
     assert first <= mesh.times[within[0]]
     i = int(np.argmin(result.time))
-    distance = triangle_pair_distance(mesh, positions(mesh, first), int(result.tri_a[i]), int(result.tri_b[i]))
-    assert distance <= THICKNESS * (1.0 + RELATIVE_SLACK)
+    distance = triangle_pair_distance(mesh, int(result.tri_a[i]), mesh, int(result.tri_b[i]), first, same_mesh=True)
+    assert distance <= thickness * (1.0 + RELATIVE_SLACK)

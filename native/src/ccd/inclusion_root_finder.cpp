@@ -364,10 +364,7 @@ public:
         for (int d = 0; d < direction_count_; ++d) {
             const double* n = directions_[d].n;
             for (int it = 0; it < 2; ++it) {
-                for (int i = 0; i < count; ++i) {
-                    const double* f = face.values[it][i];
-                    values[it * count + i] = n[0] * f[0] + n[1] * f[1] + n[2] * f[2];
-                }
+                for (int i = 0; i < count; ++i) values[it * count + i] = projected_on(n, face.values[it][i]);
             }
             narrow(directions_[d].bound);
         }
@@ -551,8 +548,7 @@ public:
             const Direction& d = directions_[i];
             double lo = INFINITY, hi = -INFINITY;
             for (int c = 0; c < 8; ++c) {
-                const double* f = corner[c >> 2][(c >> 1) & 1][c & 1];
-                const double g = d.n[0] * f[0] + d.n[1] * f[1] + d.n[2] * f[2];
+                const double g = projected_on(d.n, corner[c >> 2][(c >> 1) & 1][c & 1]);
                 projected[i][c] = g;
                 lo = std::min(lo, g);
                 hi = std::max(hi, g);
@@ -723,6 +719,9 @@ private:
             narrow_to_lines(from, to, count, bound, lower[p], upper[p]);
         }
     }
+
+    /// n.f, a value of F projected on a separating direction.
+    static double projected_on(const double n[3], const double f[3]) { return n[0] * f[0] + n[1] * f[1] + n[2] * f[2]; }
 
     /// True when all `count` values of a constraint lie within [-bound, bound]
     /// (every line between them then holds it over its whole length), or one

@@ -316,8 +316,8 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
                 // the check's begin, not the window's: a pair found at a
                 // window's begin is tested on the raw steps around it as a
                 // whole run tests it, not held still there, which only the
-                // check's begin asks for (at a thickness above 0 the two
-                // can differ by the narrow phase's rounding bound).
+                // check's begin asks for (near the thickness the two answers
+                // can differ within the narrow phase's tolerance).
                 parts[k] = confirm_on_raw_scene(raw_local, share, options.ccd, options.t_begin, options.t_end,
                                                 part_counters[k], progress.for_window(*windows[w]));
             });

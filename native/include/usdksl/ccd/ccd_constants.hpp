@@ -81,7 +81,6 @@ constexpr double CLIP_AGAIN_BELOW_KEPT_VOLUME = 0.5;
 constexpr double FACE_ORIGIN_NEAR_EDGE_WEIGHT = 0.05;
 constexpr double FACE_ORIGIN_WIDE_EDGE_RATIO = 0.7;
 
-
 /// @brief How many times finer than (tolerance x the query's largest reach)
 ///        the root finder resolves the face or edge parameters spatially
 ///        (dimensionless). A parameter is refined to the parametric tolerance

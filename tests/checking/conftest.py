@@ -1,0 +1,17 @@
+"""Fixtures shared by the checking tests."""
+
+from types import SimpleNamespace
+
+import pytest
+
+
+@pytest.fixture(scope="session")
+def newton_twist_within_1cm(newton_twist_path):
+    """The third-party twist's one mesh and its contacts within 0.01 at one thread, checked once for the
+    tests that look at it: SimpleNamespace(mesh, thickness, result)."""
+    from usdksl import load_shot
+    from usdksl.checking.collision import find_contacts
+    mesh = load_shot(newton_twist_path).meshes[0]
+    thickness = 0.01
+    return SimpleNamespace(mesh=mesh, thickness=thickness,
+                           result=find_contacts([mesh], [(0, 0)], thickness=thickness, threads=1))
