@@ -40,4 +40,3 @@ def newton_twist_path(shared_data):
     if not path.is_file():
         pytest.skip(f"{path} not found")
     return path
-
