@@ -91,6 +91,12 @@ def _echo(line: str) -> None:
               help="Exit 2 (nothing written) instead of warning when the cache has a simulation blow-up, "
                    "geometry or an interval usdksl cannot check (nested PointInstancers, topology "
                    "changes) or nothing left to check.")
+@click.option("--allow-missing-assets", is_flag=True,
+              help="Check what the stage composes even when a referenced, payloaded, sublayered or clip asset "
+                   "does not resolve (each is named as not checked). Without it such a stage is exit 2.")
+@click.option("--skin-keys-only", is_flag=True,
+              help="Pose skinned meshes at their animation's keys only. By default a skinned mesh keyed more "
+                   "sparsely than the stage's frames is posed at every frame, as UsdSkel.BakeSkinning bakes it.")
 @click.option("-v", "--verbose", "verbosity", flag_value=VERBOSE,
               help="Also print the plan (what is checked and why the rest is not), one line per mesh pair "
                    "with contacts, and the files written.")
@@ -112,8 +118,8 @@ def _echo(line: str) -> None:
                    "shot estimated to need more is refused (exit 2) before it is loaded.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
-          baseline_time_tolerance, plot_path, json_path, junit_path, strict, verbosity, jobs, scheduler,
-          timeout, threads, memory_limit):
+          baseline_time_tolerance, plot_path, json_path, junit_path, strict, allow_missing_assets, skin_keys_only,
+          verbosity, jobs, scheduler, timeout, threads, memory_limit):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
@@ -127,7 +133,8 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
                            exclude=tuple(exclude), include_guides=include_guides,
                            include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
                            last_contact=last_contact or plot_path is not None, strict=strict,
-                           threads=threads, memory_limit=memory_limit)
+                           threads=threads, memory_limit=memory_limit,
+                           allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only)
     shots = expand_shots(shots)
     finished = []
     single = len(shots) == 1 and jobs is None and scheduler is None

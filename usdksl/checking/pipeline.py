@@ -74,6 +74,9 @@ class Message:
 
     level: str
     text: str
+    #: Stable name of what the line is about (usdksl.warning_kinds), as OpenUSD names its validators;
+    #: None for lines that are not findings (plan lines, progress notes).
+    kind: Optional[str] = None
 
     def shown(self, verbosity: int) -> bool:
         """Whether ``usdksl check`` at this verbosity prints it (LEVEL_VERBOSITY)."""
@@ -115,6 +118,12 @@ class CheckOptions:
     #: Memory the check may use: a size ("8G", bytes), "off", or None for what the machine has
     #: (usdksl.checking.memory_budget). Does not change any result, so not in settings().
     memory_limit: Optional[str] = None
+    #: Check what the stage composes even when a reference, payload, sublayer or clip asset does not
+    #: resolve (the coverage account names each as not checked). Off: such a stage is an input error.
+    allow_missing_assets: bool = False
+    #: Pose skinned meshes at their animation's keys only, instead of at every frame of the stage's range
+    #: where the keys are sparser (as UsdSkel.BakeSkinning bakes them).
+    skin_keys_only: bool = False
 
     def validate(self) -> None:
         """Raise UsdkslUsageError (exit 2) on a value the check cannot use."""
@@ -138,7 +147,8 @@ class CheckOptions:
                 "time_range": list(self.time_range) if self.time_range else None,
                 "prims": list(include), "exclude": list(excluded), "include_guides": self.include_guides,
                 "include_invisible": self.include_invisible, "rigid": self.rigid,
-                "last_contact": self.last_contact}
+                "last_contact": self.last_contact, "allow_missing_assets": self.allow_missing_assets,
+                "skin_keys_only": self.skin_keys_only}
 
 
 @dataclass(frozen=True)
@@ -297,10 +307,10 @@ def _shown(bar) -> bool:
 
 
 def message_collector(messages: List[Message],
-                      on_message: Optional[Callable[[Message], None]] = None) -> Callable[[str, str], None]:
-    """say(level, text): append the Message to ``messages`` and hand it to ``on_message``."""
-    def say(level: str, text: str) -> None:
-        message = Message(level, text)
+                      on_message: Optional[Callable[[Message], None]] = None) -> Callable[..., None]:
+    """say(level, text, kind=None): append the Message to ``messages`` and hand it to ``on_message``."""
+    def say(level: str, text: str, kind: Optional[str] = None) -> None:
+        message = Message(level, text, kind)
         messages.append(message)
         if on_message is not None:
             on_message(message)
@@ -326,7 +336,8 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[[st
     size = scan_shot(shot, options.time_range, predicate)   # its open stage makes the loader's open free
     check_memory(size, options.method, memory_limit(options.memory_limit), file=name,
                  threads=options.threads or default_threads())
-    segments = load_segments(shot, options.time_range, predicate, say, name, options.strict)
+    segments = load_segments(shot, options.time_range, predicate, say, name, options.strict,
+                             allow_missing_assets=options.allow_missing_assets, skin_keys_only=options.skin_keys_only)
     del size
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
@@ -485,12 +496,14 @@ def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[st
 
 
 def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[[str, str], None],
-                  name: Optional[str] = None, strict: bool = False):
+                  name: Optional[str] = None, strict: bool = False, allow_missing_assets: bool = False,
+                  skin_keys_only: bool = False):
     """[(range, Shot)]: the whole shot, or one Shot per constant-topology stretch (usdksl.reading.segments)
     with a warning per topology change (an input error under ``strict``: the interval across a change is
     not checked); ``range`` is None when the whole shot is checked without a time range."""
     try:
-        return [(time_range, load_shot(shot, time_range=time_range, include=predicate))]
+        return [(time_range, load_shot(shot, time_range=time_range, include=predicate,
+                                       allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only))]
     except UsdkslInputError as error:
         if not is_topology_change(error):
             raise
@@ -509,7 +522,8 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
                      f"that interval is not checked")
     say(WARNING, f"checking {len(ranges)} constant-topology segments: "
                  + ", ".join(f"{a:g}..{b:g}" for a, b in ranges))
-    return [(segment_range, load_shot(shot, time_range=segment_range, include=predicate))
+    return [(segment_range, load_shot(shot, time_range=segment_range, include=predicate,
+                                      allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only))
             for segment_range in ranges]
 
 

@@ -231,23 +231,28 @@ def _check_time_range(file: str, time_range) -> Optional[Tuple[float, float]]:
 
 
 def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, float]] = None,
-              include: IncludeFilter = None) -> Shot:
+              include: IncludeFilter = None, allow_missing_assets: bool = False,
+              skin_keys_only: bool = False) -> Shot:
     """Load every mesh of a USD shot in world space (see module docstring).
 
     ``time_range=(a, b)``: each animated mesh keeps its samples inside (a, b) plus its
     values evaluated exactly at a and b. ``include``: see :func:`mesh_prims`.
+    ``allow_missing_assets``: load what composes when an asset does not resolve (each is listed in
+    :attr:`Shot.unchecked`) instead of raising. ``skin_keys_only``: pose skinned meshes at their keys only
+    (:mod:`usdksl.reading.skinning`).
     Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input.
     """
     file = os.fspath(path)
     try:
-        return _load_shot(file, time_range, include)
+        return _load_shot(file, time_range, include, allow_missing_assets, skin_keys_only)
     except UsdkslInputError as error:   # readers below the loader know the prim but not the file
         if error.file:
             raise
         raise type(error)(error.message, file=file, prim=error.prim, time=error.time) from None
 
 
-def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: IncludeFilter) -> Shot:
+def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: IncludeFilter,
+               allow_missing_assets: bool = False, skin_keys_only: bool = False) -> Shot:
     from . import layer_rates   # it builds on this module
 
     time_range = _check_time_range(file, time_range)
