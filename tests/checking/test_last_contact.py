@@ -88,8 +88,9 @@ def test_command_writes_last_contact_columns(samples_dir, tmp_path):
         rows = list(csv.DictReader(handle))
     assert list(rows[0])[-3:] == ["last_time", "last_frame", "last_seconds"]
     assert all(float(row["last_time"]) >= float(row["time"]) for row in rows)
-    # fold.usda starts at 1, 24 time codes and 24 frames a second
-    assert all(float(row["last_frame"]) == (float(row["last_time"]) - 1.0) / 24.0 * 24.0 for row in rows)
+    # fold.usda starts at 1, 24 time codes and 24 frames a second: frames are the time codes
+    assert all(float(row["last_frame"]) == float(row["last_time"]) for row in rows)
+    assert all(float(row["last_seconds"]) == float(row["last_time"]) / 24.0 for row in rows)
     with open(tmp_path / "fold.summary.csv", newline="") as handle:
         summary = list(csv.DictReader(handle))
     assert float(summary[0]["last_contact_time"]) == max(float(row["last_time"]) for row in rows)

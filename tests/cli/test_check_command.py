@@ -365,7 +365,7 @@ def test_entry_point_on_a_shot_with_contacts(two_quads_shot, tmp_path):
     assert completed.stdout == ""
     assert "\r" not in completed.stderr                     # no progress bar in CI / pipes
     last = completed.stderr.splitlines()[-1]
-    assert last.startswith("usdksl: ") and "first at frame 11.5 (t=12.5)" in last
+    assert last.startswith("usdksl: ") and "first at frame 12.5 (t=12.5)" in last
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == [
         "two_quads.contacts.csv", "two_quads.summary.csv", "two_quads.usdksl.usda"]
 

@@ -47,7 +47,7 @@ def test_default_console_is_one_line_per_shot(samples_dir, tmp_path):
     assert result.stdout == ""
     lines = result.stderr.splitlines()
     assert len(lines) == 1
-    assert lines[0].startswith("usdksl: 132 contacting face pairs in 1 mesh pair, first at frame 30.916 (t=31.916); "
+    assert lines[0].startswith("usdksl: 132 contacting face pairs in 1 mesh pair, first at frame 31.916 (t=31.916); "
                                "checked 1 pair over 1..36 in ")
 
 
@@ -55,7 +55,7 @@ def test_verbose_adds_the_plan_the_mesh_pairs_and_the_files(samples_dir, tmp_pat
     result = _run(samples_dir / "fold.usda", "--out", tmp_path, "-v")
     lines = result.stderr.splitlines()
     assert "usdksl: pairs checked: 1 of 1 possible (1 meshes, 1 moving)" in lines
-    assert "usdksl: /World/Strip (self): 132 face pairs, first at frame 30.916 (t=31.916)" in lines
+    assert "usdksl: /World/Strip (self): 132 face pairs, first at frame 31.916 (t=31.916)" in lines
     assert lines[-1] == f"usdksl: wrote {tmp_path / 'fold.contacts.csv'}, {tmp_path / 'fold.summary.csv'}, " \
                         f"{tmp_path / 'fold.usdksl.usda'}"
 

@@ -49,7 +49,7 @@ def test_own_baseline_is_clean(fold, own, tmp_path):
 def test_baseline_less_one_row_names_the_new_pair_and_a_stale_row_is_fixed(fold, own, tmp_path):
     lines = own.read_text().splitlines(keepends=True)
     dropped = next(csv.DictReader(lines[:1] + lines[2:3]))
-    stale = "31.0,/World/Strip,0,/World/Strip,5,self,edge-edge,30.0,1.25\n"   # faces 0 and 5 never touch
+    stale = "31.0,/World/Strip,0,/World/Strip,5,self,edge-edge,31.0,1.2916666666666667\n"   # faces 0 and 5 never touch
     baseline = tmp_path / "baseline.csv"
     baseline.write_text("".join(lines[:2] + lines[3:]) + stale)
     result = _run("check", fold, "--out", tmp_path / "now", "--baseline", baseline,
@@ -57,7 +57,7 @@ def test_baseline_less_one_row_names_the_new_pair_and_a_stale_row_is_fixed(fold,
     assert result.exit_code == 1, result.output
     new_lines = [line for line in result.stderr.splitlines() if line.startswith(NEW_LINE)]
     assert new_lines == [f"{NEW_LINE}{dropped['prim_a']} face {dropped['face_a']} x {dropped['prim_b']} face "
-                         f"{dropped['face_b']}, first at frame 30.916 (t=31.916)"]
+                         f"{dropped['face_b']}, first at frame 31.916 (t=31.916)"]
     fixed_lines = [line for line in result.stderr.splitlines() if line.startswith(FIXED_LINE)]
     assert fixed_lines == [f"{FIXED_LINE}/World/Strip face 0 x /World/Strip face 5 at t=31.0"]
     assert "usdksl: 1 new, 131 known, 1 fixed" in result.stderr

@@ -24,8 +24,8 @@ def contacts(rows):
 
 # mesh 0 is "/Z/Cloth", mesh 1 is "/A/Box": index order differs from string order on purpose
 PATHS = ["/Z/Cloth", "/A/Box"]
-# frames and seconds differ from time codes: the stage starts at 0.5, 48 time codes a second, 24 fps
-CLOCK = StageClock(start_time_code=0.5, time_codes_per_second=48.0, frames_per_second=24.0)
+# frames and seconds differ from time codes: 48 time codes a second, 24 fps (frame = time / 2)
+CLOCK = StageClock(time_codes_per_second=48.0, frames_per_second=24.0)
 
 
 def test_prim_order_face_order_sorting_and_dedup():
@@ -39,9 +39,9 @@ def test_prim_order_face_order_sorting_and_dedup():
     rows = list(csv.reader(io.StringIO(contacts_csv(table, CLOCK))))
     assert rows[0] == ["time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature", "frame", "seconds"]
     assert rows[1:] == [
-        ["0.5", "/A/Box", "3", "/Z/Cloth", "7", "inter", "face-vertex", "0.0", "0.0"],
-        ["1.0", "/A/Box", "0", "/Z/Cloth", "2", "inter", "initial", "0.25", "0.010416666666666666"],
-        ["1.0", "/Z/Cloth", "4", "/Z/Cloth", "9", "self", "edge-edge", "0.25", "0.010416666666666666"],
+        ["0.5", "/A/Box", "3", "/Z/Cloth", "7", "inter", "face-vertex", "0.25", "0.010416666666666666"],
+        ["1.0", "/A/Box", "0", "/Z/Cloth", "2", "inter", "initial", "0.5", "0.020833333333333332"],
+        ["1.0", "/Z/Cloth", "4", "/Z/Cloth", "9", "self", "edge-edge", "0.5", "0.020833333333333332"],
     ]
 
 
@@ -64,8 +64,8 @@ def test_summary_rows():
     rows = list(csv.reader(io.StringIO(summary_csv(table, CLOCK))))
     assert rows == [["prim_a", "prim_b", "kind", "first_contact_time", "face_pairs", "first_contact_frame",
                      "first_contact_seconds"],
-                    ["/A/Box", "/Z/Cloth", "inter", "2.0", "3", "0.75", "0.03125"],
-                    ["/Z/Cloth", "/Z/Cloth", "self", "5.0", "1", "2.25", "0.09375"]]
+                    ["/A/Box", "/Z/Cloth", "inter", "2.0", "3", "1.0", "0.041666666666666664"],
+                    ["/Z/Cloth", "/Z/Cloth", "self", "5.0", "1", "2.5", "0.10416666666666667"]]
 
 
 def test_empty_table_has_headers_only():
@@ -142,7 +142,7 @@ def test_junit_one_case_per_checked_pair_with_failures():
     assert sorted(c.get("name") for c in cases) == ["/A/Box x /Z/Cloth", "/Z/Cloth"]
     failed = {c.get("name"): c.find("failure") for c in cases}
     assert failed["/Z/Cloth"] is None
-    assert failed["/A/Box x /Z/Cloth"].get("message") == "2 face pairs in contact, first at frame 0.75 (t=2)"
+    assert failed["/A/Box x /Z/Cloth"].get("message") == "2 face pairs in contact, first at frame 1 (t=2)"
     assert suites[0].get("tests") == "2" and suites[0].get("failures") == "1"
 
 
@@ -152,13 +152,13 @@ def test_json_document():
                                       version="0.1"))
     assert document["shot"] == "shot.usda" and document["settings"] == {"method": "ksl"}
     assert document["plan"]["pairs_checked"] == 2 and document["plan"]["pairs_possible"] == 3
-    assert document["clock"] == {"startTimeCode": 0.5, "timeCodesPerSecond": 48.0, "framesPerSecond": 24.0}
+    assert document["clock"] == {"timeCodesPerSecond": 48.0, "framesPerSecond": 24.0}
     assert document["summary"] == [{"prim_a": "/A/Box", "prim_b": "/Z/Cloth", "kind": "inter",
-                                    "first_contact_time": 2.0, "face_pairs": 1, "first_contact_frame": 0.75,
-                                    "first_contact_seconds": 0.03125}]
+                                    "first_contact_time": 2.0, "face_pairs": 1, "first_contact_frame": 1.0,
+                                    "first_contact_seconds": 0.041666666666666664}]
     assert document["contacts"] == [{"time": 2.0, "prim_a": "/A/Box", "face_a": 3, "prim_b": "/Z/Cloth",
-                                     "face_b": 7, "kind": "inter", "feature": "face-vertex", "frame": 0.75,
-                                     "seconds": 0.03125}]
+                                     "face_b": 7, "kind": "inter", "feature": "face-vertex", "frame": 1.0,
+                                     "seconds": 0.041666666666666664}]
     assert document["exit_code"] == 1
 
 
@@ -168,4 +168,4 @@ def test_summary_line():
     assert clean == "usdksl: clean: no contacts; checked 2 pairs over 0..48 in 1.2s"
     table = ContactTable.from_face_contacts(contacts([(14.5, 0, 7, 1, 3, 0), (15.0, 0, 8, 1, 3, 0)]), PATHS)
     line = summary_line(table, plan, (0.0, 48.0), 0.5, CLOCK)
-    assert line.startswith("usdksl: 2 contacting face pairs in 1 mesh pair, first at frame 7 (t=14.5);")
+    assert line.startswith("usdksl: 2 contacting face pairs in 1 mesh pair, first at frame 7.25 (t=14.5);")

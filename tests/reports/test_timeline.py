@@ -10,7 +10,8 @@ from click.testing import CliRunner
 from usdksl.checking.pipeline import CheckOptions, check_shot
 from usdksl.cli.main import main
 from usdksl.reports.timeline import (DOTS_PER_INCH, FIGURE_WIDTH_INCHES, INSTALL_HINT, MARGIN_HEIGHT_INCHES,
-                                     ROW_HEIGHT_INCHES, contact_spans, in_contact_counts, timeline_rows)
+                                     ROW_HEIGHT_INCHES, contact_spans, in_contact_counts, timeline_figure,
+                                     timeline_rows)
 
 from builders import QUAD_POINTS, add_mesh, new_stage
 
@@ -45,13 +46,22 @@ def test_rows_hold_each_mesh_pair_in_frames(tmp_path):
     result = check_shot(str(_two_movers(tmp_path / "movers.usda")), CheckOptions(last_contact=True))
     rows = timeline_rows(result.table, result.clock)
     assert [row.label for row in rows] == ["/World/Bounce x /World/Floor", "/World/Floor x /World/Rest"]
-    frame = result.clock.frame        # (t - 2) / 12 * 24
+    frame = result.clock.frame        # t * 24 / 12, whatever the stage's start
+    assert frame(6.0) == 12.0 and frame(16.0) == 32.0
     bounce, rest = rows
     assert bounce.spans.shape == (1, 2) and rest.spans.shape == (1, 2)
     assert bounce.spans[0] == pytest.approx([frame(6.0), frame(16.0)], abs=1e-4)
     assert rest.spans[0] == pytest.approx([frame(10.0), frame(24.0)], abs=1e-4)
     assert bounce.new_ticks == pytest.approx([frame(6.0)], abs=1e-4) and bounce.known_ticks.size == 0
     assert rest.counts.tolist() == [1, 0]
+
+
+def test_the_axis_runs_over_the_checked_span_in_stage_frames(tmp_path):
+    result = check_shot(str(_two_movers(tmp_path / "movers.usda")), CheckOptions(last_contact=True))
+    assert result.span == (1.0, 24.0)
+    axes = timeline_figure(result.table, result.clock, result.span, "movers.usda").axes[0]
+    assert axes.get_xlim() == (2.0, 48.0)           # time codes 1..24 at 12 a second, 24 frames a second
+    assert axes.get_xlabel() == "frame (24 fps, 12 time codes/s)"
 
 
 def _png_size(data):

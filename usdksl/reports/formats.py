@@ -6,7 +6,7 @@ back to the same double, so two runs give byte-identical files.
 
 contacts.csv  ``time,prim_a,face_a,prim_b,face_b,kind,feature,frame,seconds`` (the six contract columns,
               the feature that touched first: vertex-face, face-vertex, edge-edge or initial, then the
-              time as a frame and in seconds since the stage's start, usdksl.clock); with last contacts
+              time as a frame and in seconds on the stage's timeline, usdksl.clock); with last contacts
               (``--last-contact``) also ``last_time,last_frame,last_seconds``.
 summary.csv   ``prim_a,prim_b,kind,first_contact_time,face_pairs,first_contact_frame,first_contact_seconds``
               (with last contacts also ``last_contact_time,last_contact_frame,last_contact_seconds``):
@@ -128,9 +128,8 @@ def contact_records(table: ContactTable, clock: StageClock, known: Optional[np.n
 
 
 def clock_settings(clock: StageClock) -> dict:
-    """The ``clock`` object of the JSON report: what frames and seconds are counted from."""
-    return {"startTimeCode": clock.start_time_code, "timeCodesPerSecond": clock.time_codes_per_second,
-            "framesPerSecond": clock.frames_per_second}
+    """The ``clock`` object of the JSON report: the rates that turn time codes into frames and seconds."""
+    return {"timeCodesPerSecond": clock.time_codes_per_second, "framesPerSecond": clock.frames_per_second}
 
 
 def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_code: int, clock: StageClock,

@@ -1,7 +1,7 @@
 """The ``--plot FILE.png`` contact timeline: when each mesh pair is in contact, in frames.
 
 One row per mesh pair with contacts, in order of first contact (at most :data:`MAX_ROWS`; a note says
-how many more there are), frames on the x axis (usdksl.clock: frame 0 is the stage's start):
+how many more there are), frames on the x axis (usdksl.clock: numbered as usdview numbers them):
 
 * the row is shaded over the union of its face pairs' contact spans, each span running from the face
   pair's first to its last contact (a face pair that separates and touches again in between is shaded
@@ -155,7 +155,7 @@ def timeline_figure(table: ContactTable, clock: StageClock, span: Tuple[float, f
         axes.text(1.005, index, f"peak {peak}", transform=axes.get_yaxis_transform(), va="center", fontsize=7)
     axes.set_yticks(range(len(shown)))
     axes.set_yticklabels([row.label for row in shown], fontsize=8)
-    axes.set_xlabel(f"frame (0 = start time code {clock.start_time_code:g}, {clock.frames_per_second:g} fps)")
+    axes.set_xlabel(f"frame ({clock.frames_per_second:g} fps, {clock.time_codes_per_second:g} time codes/s)")
     note = f"  (+{len(rows) - MAX_ROWS} more mesh pairs)" if len(rows) > MAX_ROWS else ""
     axes.set_title(f"{title}: {table.count} face pairs in contact{note}" if rows else f"{title}: no contacts",
                    fontsize=10)
