@@ -9,6 +9,7 @@ from ..checking.pipeline import output_targets
 from ..errors import UsdkslInputError
 from ..reports.output import write_files
 from ..scale.merge import merge_chunks
+from .options import parse_time_range
 
 
 @click.command()
@@ -27,17 +28,21 @@ from ..scale.merge import merge_chunks
               help="Also require a baseline entry's time to be within T time codes of the contact's.")
 @click.option("--plot", "plot_path", metavar="FILE.png", default=None,
               help="Also draw the contact timeline (the chunks must have been checked with --last-contact).")
-def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path):
+@click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range, metavar="A B",
+              help="Merge only this part of the shot (USD time codes): the chunks must cover exactly [A, B]. "
+                   "Without it they must cover the shot's whole range.")
+def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path, time_range):
     """Join the outputs of `usdksl check SHOT --time-range A B --out PART_DIR` chunks into what one run over
     the union of their ranges writes.
 
-    Refuses (exit 2, one line) chunks that leave a gap, overlap with different answers, or come from
-    another shot, usdksl version or set of options. Exit 0 clean, 1 contacts found.
+    Refuses (exit 2, one line) chunks that leave a gap, leave out part of the range `usdksl check SHOT`
+    checks (or of --time-range, which they must cover exactly), overlap with different answers, or come
+    from another shot, usdksl version or set of options. Exit 0 clean, 1 contacts found.
     """
     try:
         targets = output_targets(shot, out, json_path, junit_path, plot_path)
         accepted = None if baseline is None else read_baseline(baseline, baseline_time_tolerance)
-        result = merge_chunks(shot, parts, targets, accepted)
+        result = merge_chunks(shot, parts, targets, accepted, time_range)
         write_files(result.files)
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)

@@ -1,9 +1,11 @@
 """``usdksl merge``: farm chunks (``check --time-range A B``) joined equal one run over their union, byte for
-byte; gaps, disagreeing overlaps, other shots, other options and off-sample cuts are refused."""
+byte; gaps, chunks that leave out part of the shot's range (or of --time-range), disagreeing overlaps,
+other shots, other options and off-sample cuts are refused."""
 
 import pytest
 from click.testing import CliRunner
 
+from builders import QUAD_POINTS, add_mesh, new_stage
 from usdksl.cli.main import main
 
 #: fold.usda is sampled at every frame 1..36; its strip first touches itself at about t = 31.9.
@@ -89,7 +91,7 @@ def test_chunks_with_and_without_last_contacts_are_refused(fold, tmp_path):
 
 def test_merged_output_merges_again(fold, tmp_path, whole):
     first = _run("merge", fold, _chunk(fold, tmp_path / "a", 1, 10), _chunk(fold, tmp_path / "b", 10, 20),
-                 "--out", tmp_path / "ab")
+                 "--time-range", 1, 20, "--out", tmp_path / "ab")
     assert first.exit_code == 0, first.output                 # no contact before 20
     result = _run("merge", fold, tmp_path / "ab", _chunk(fold, tmp_path / "c", 20, 36), "--out", tmp_path / "abc")
     assert result.exit_code == 1, result.output
@@ -152,3 +154,97 @@ def test_cuts_between_samples_of_a_moving_mesh_are_refused(samples_dir, tmp_path
     result = _run("merge", shot, _chunk(shot, tmp_path / "a", 1, 20), _chunk(shot, tmp_path / "b", 20, 24),
                   "--out", out)
     _refused(result, "between two time samples of /World/Mover/Box", out)
+
+
+# --------------------------------------------------------------------------- the shot's whole range
+
+
+def test_only_the_second_half_of_the_chunks_is_refused(fold, tmp_path):
+    out = tmp_path / "merged"
+    result = _run("merge", fold, _chunk(fold, tmp_path / "b", 18, 27), _chunk(fold, tmp_path / "c", 27, 36),
+                  "--out", out)
+    _refused(result, f"{fold}: the chunks cover 18..36, not 1..18 of the shot's range 1..36: a chunk is missing "
+                     f"(or give --time-range 18 36 to merge a part)", out)
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["b", "c"]     # nothing written beside them
+
+
+def test_only_the_first_half_of_the_chunks_is_refused(fold, tmp_path):
+    out = tmp_path / "merged"
+    result = _run("merge", fold, _chunk(fold, tmp_path / "a", 1, 18), "--out", out)
+    _refused(result, "the chunks cover 1..18, not 18..36 of the shot's range 1..36", out)
+
+
+def test_a_middle_chunk_names_both_missing_stretches(fold, tmp_path):
+    out = tmp_path / "merged"
+    result = _run("merge", fold, _chunk(fold, tmp_path / "m", 10, 20), "--out", out)
+    _refused(result, "the chunks cover 10..20, not 1..10 and 20..36 of the shot's range 1..36", out)
+
+
+def test_chunks_reaching_past_the_shot_cover_it(fold, tmp_path, whole):
+    # a farm's last chunk ends one frame past the shot: nothing moves after the last sample
+    folders = [_chunk(fold, tmp_path / f"part{index}", start, end) for index, (start, end) in
+               enumerate(((1, 20), (20, 37)))]
+    result = _run("merge", fold, *folders, "--out", tmp_path / "merged")
+    assert result.exit_code == 1, result.output
+
+
+def test_a_part_merged_with_its_time_range_equals_one_run_over_it(fold, tmp_path):
+    one = tmp_path / "one"
+    assert _run("check", fold, "--time-range", 18, 36, "--out", one).exit_code == 1
+    out = tmp_path / "merged"
+    result = _run("merge", fold, _chunk(fold, tmp_path / "b", 18, 27), _chunk(fold, tmp_path / "c", 27, 36),
+                  "--time-range", 18, 36, "--out", out)
+    assert result.exit_code == 1, result.output
+    for name in ("fold.contacts.csv", "fold.summary.csv", "fold.usdksl.usda"):
+        assert (out / name).read_bytes() == (one / name).read_bytes(), name
+
+
+def test_a_time_range_wider_than_the_chunks_is_refused(fold, tmp_path):
+    out = tmp_path / "merged"
+    result = _run("merge", fold, _chunk(fold, tmp_path / "b", 18, 27), "--time-range", 9, 36, "--out", out)
+    _refused(result, "the chunks cover 18..27, not 9..18 and 27..36 of --time-range 9..36: a chunk is missing", out)
+
+
+def test_chunks_reaching_outside_the_time_range_are_refused(fold, tmp_path):
+    out = tmp_path / "merged"
+    result = _run("merge", fold, _chunk(fold, tmp_path / "a", 1, 20), _chunk(fold, tmp_path / "b", 20, 36),
+                  "--time-range", 20, 36, "--out", out)
+    _refused(result, "the chunks cover 1..36, beyond --time-range 20..36 (1..20)", out)
+
+
+def _falling_every_frame(last_frame, offset=(0.0, 0.0, 0.0)):
+    """A quad falling one unit a frame, sampled at every frame 1..last_frame (chunks may cut at any frame)."""
+    return {float(frame): QUAD_POINTS + offset + [0.0, -float(frame), 0.0] for frame in range(1, last_frame + 1)}
+
+
+@pytest.fixture
+def short_and_long(tmp_path):
+    """/World/Short is sampled over 1..12; /World/Long, far from it, over 1..24."""
+    path = tmp_path / "shot.usda"
+    stage = new_stage(path)
+    add_mesh(stage, "/World/Short", None, samples=_falling_every_frame(12))
+    add_mesh(stage, "/World/Long", None, samples=_falling_every_frame(24, offset=(10.0, 0.0, 0.0)))
+    stage.GetRootLayer().Save()
+    return path
+
+
+def test_the_range_is_that_of_the_meshes_the_chunks_checked(short_and_long, tmp_path):
+    shot = short_and_long
+    short_only = [_chunk(shot, tmp_path / f"short{index}", start, end, "--prims", "/World/Short")
+                  for index, (start, end) in enumerate(((1, 6), (6, 12)))]
+    result = _run("merge", shot, *short_only, "--out", tmp_path / "short")
+    assert result.exit_code == 0, result.output
+    every_mesh = [_chunk(shot, tmp_path / f"all{index}", start, end)
+                  for index, (start, end) in enumerate(((1, 6), (6, 12)))]
+    out = tmp_path / "all"
+    _refused(_run("merge", shot, *every_mesh, "--out", out), "not 12..24 of the shot's range 1..24", out)
+
+
+def test_a_shot_where_nothing_moves_is_covered_by_any_chunk(tmp_path):
+    shot = tmp_path / "still.usda"
+    stage = new_stage(shot)
+    add_mesh(stage, "/World/Floor", QUAD_POINTS)
+    add_mesh(stage, "/World/Table", QUAD_POINTS + [0.0, 1.0, 0.0])
+    stage.GetRootLayer().Save()
+    result = _run("merge", shot, _chunk(shot, tmp_path / "a", 5, 10), "--out", tmp_path / "merged")
+    assert result.exit_code == 0, result.output

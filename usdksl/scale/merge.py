@@ -9,6 +9,9 @@ line) chunks that leave a gap, that overlap with different answers, that come fr
 root layer's SHA-256), another usdksl version, other settings or another set of checked mesh pairs,
 chunks cut between two time samples of a moving mesh (the chunk re-samples its motion there, so its
 times could differ in the last bits), and chunks that split at a topology change (checked per segment).
+It also refuses chunks that do not cover the shot's whole checked range (the span of the sample times of
+the meshes the chunks load): a farm task that died without leaving a folder is never a half-checked shot.
+A part of a shot is merged on purpose with an explicit time range, which the chunks must cover exactly.
 
 The same joining serves the time windows of a long shot checked on Dask (usdksl.scale.windows): both are
 *parts* of one shot — a start, an end, the mesh pairs they checked and their contacts — and
@@ -24,11 +27,13 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..baseline import Baseline
-from ..checking.pipeline import (CheckOptions, CheckResult, Message, OutputTargets, checked_span, conclude,
-                                 load_and_plan, message_collector, report_blowups)
+from ..checking.pipeline import (CheckOptions, CheckResult, Message, OutputTargets, TimeRange, checked_span,
+                                 conclude, load_and_plan, message_collector, report_blowups)
 from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
+from ..reading.loader import shot_sample_times
 from ..reading.meshes import STATIC
+from ..reading.scope import include_predicate
 from ..reports.formats import read_contacts_table
 from ..reports.manifest import checked_pairs, file_sha256, manifest_name, read_manifest
 from ..reports.override import shot_stem
@@ -121,6 +126,61 @@ def _require_cuts_on_samples(parts: Sequence, span: Tuple[float, float], shot, e
                                    f"time samples of {mesh.path}; cut chunks at sampled times", file=shot.path)
 
 
+def shot_checked_range(shot: str, prims: Sequence[str], exclude: Sequence[str]) -> Optional[TimeRange]:
+    """The range (time codes) ``usdksl check SHOT`` checks with these ``--prims`` includes and ``--exclude``
+    patterns: the span of the sample times of the meshes it loads, or None when none of them moves (then
+    every time shows the same shot). Reads time samples only. Raises UsdkslInputError like the loader."""
+    predicate = include_predicate(prims, exclude) if (prims or exclude) else None
+    times = [mesh_times for mesh_times in shot_sample_times(shot, predicate) if mesh_times.size]
+    if not times:
+        return None
+    return (float(min(mesh_times[0] for mesh_times in times)), float(max(mesh_times[-1] for mesh_times in times)))
+
+
+def require_covered(shot: str, chunks: Sequence[Chunk], time_range: Optional[TimeRange] = None) -> TimeRange:
+    """The range the chunks (sorted by start, without gaps) cover, in time codes. Refuses (UsdkslUsageError
+    naming ``shot``) chunks that leave out part of the shot's checked range (:func:`shot_checked_range`), or,
+    given ``time_range``, chunks that do not cover exactly that range."""
+    covered = (chunks[0].start, max(chunk.end for chunk in chunks))
+    if time_range is not None:
+        wanted, what, hint = time_range, f"--time-range {_span_text(time_range)}", ""
+        beyond = _stretches_outside(wanted, covered)
+        if beyond:
+            raise UsdkslUsageError(f"the chunks cover {_span_text(covered)}, beyond --time-range "
+                                   f"{_span_text(wanted)} ({' and '.join(map(_span_text, beyond))}): merge only "
+                                   f"the chunks of that range, or give the range they cover", file=shot)
+    else:
+        settings = chunks[0].manifest.get("settings", {})
+        wanted = shot_checked_range(shot, settings.get("prims", ()), settings.get("exclude", ()))
+        if wanted is None:
+            return covered
+        what = f"the shot's range {_span_text(wanted)}"
+        hint = f" (or give --time-range {_time_text(covered[0])} {_time_text(covered[1])} to merge a part)"
+    missing = _stretches_outside(covered, wanted)
+    if missing:
+        raise UsdkslUsageError(f"the chunks cover {_span_text(covered)}, not {' and '.join(map(_span_text, missing))} "
+                               f"of {what}: a chunk is missing{hint}", file=shot)
+    return covered
+
+
+def _stretches_outside(inner: TimeRange, outer: TimeRange) -> List[TimeRange]:
+    """The stretches of ``outer`` before and after ``inner`` (time codes), the empty ones left out."""
+    if outer[0] == outer[1]:   # one time: left out unless inner holds it
+        return [] if inner[0] <= outer[0] <= inner[1] else [outer]
+    stretches = [(outer[0], min(inner[0], outer[1])), (max(inner[1], outer[0]), outer[1])]
+    return [(start, end) for start, end in stretches if start < end]
+
+
+def _time_text(value: float) -> str:
+    """A time code as short as it reads back exactly (a suggested --time-range must mean the chunks' range)."""
+    short = f"{value:g}"
+    return short if float(short) == value else repr(value)
+
+
+def _span_text(span: TimeRange) -> str:
+    return f"{_time_text(span[0])}..{_time_text(span[1])}"
+
+
 def _settings_but_range(manifest: dict) -> dict:
     return {key: value for key, value in manifest.get("settings", {}).items() if key != "time_range"}
 
@@ -172,14 +232,17 @@ def _pair_rows(table: ContactTable) -> np.ndarray:
 
 
 def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
-                 baseline: Optional[Baseline] = None) -> CheckResult:
+                 baseline: Optional[Baseline] = None, time_range: Optional[TimeRange] = None) -> CheckResult:
     """What ``usdksl check SHOT --time-range START END`` writes, START..END the union of the chunks'
     ranges, from the chunks' outputs (with ``baseline``: what that check with ``--baseline`` writes).
+    The chunks must cover the shot's whole checked range, or with ``time_range`` (time codes, a part of
+    the shot merged on purpose) exactly that range (:func:`require_covered`).
     Raises UsdkslUsageError (one line) when they cannot be merged."""
     started = time.monotonic()
     chunks = read_chunks(shot, folders)
     settings = chunks[0].manifest["settings"]
-    span: Tuple[float, float] = (chunks[0].start, max(chunk.end for chunk in chunks))
+    _require_consistent_parts(chunks)   # a gap between chunks is named as one before the ends are checked
+    span = require_covered(shot, chunks, time_range)
     options = CheckOptions(method=settings["method"], tolerance=settings["tolerance"],
                            thickness=settings["thickness"], self_check=settings["self"], inter_check=settings["inter"],
                            time_range=span, prims=tuple(settings["prims"]), exclude=tuple(settings["exclude"]),
@@ -233,4 +296,5 @@ def merge_parts(shot: str, name: str, options: CheckOptions, targets: OutputTarg
                     baseline, started)
 
 
-__all__ = ["Chunk", "check_overlap", "merge_chunks", "merge_parts", "read_chunks"]
+__all__ = ["Chunk", "check_overlap", "merge_chunks", "merge_parts", "read_chunks", "require_covered",
+           "shot_checked_range"]
