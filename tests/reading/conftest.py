@@ -4,8 +4,9 @@ import csv
 
 import pytest
 from click.testing import CliRunner
+from pxr import Sdf, Usd, UsdGeom
 
-from builders import bare_stage
+from builders import bare_stage, box, define_mesh, stretching_sheet, write_mesh
 from usdksl.cli.main import main
 
 
@@ -52,3 +53,60 @@ def check(tmp_path):
         return (result, contact_rows(contacts) if contacts.exists() else None,
                 summary_rows(summary) if summary.exists() else None)
     return run
+
+
+#: How the body of :func:`cloth_and_body` comes onto the shot's stage.
+BODY_ARCS = ("reference", "payload", "sublayer", "clip")
+
+
+@pytest.fixture
+def cloth_and_body(tmp_path):
+    """cloth_and_body(arc) -> (shot, body): shot.usda with a deforming cloth /World/Cloth and a box
+    /World/Body falling through it (16 contacting face pairs from time 9.625), the box's animation in
+    body.usda, brought in by ``arc`` (BODY_ARCS): a reference or payload (body.usda's default prim /Body), a
+    sublayer (body.usda authors /World/Body), or a value clip (shot.usda defines the box's topology, its
+    points come from clip body.usda through the manifest body_manifest.usda)."""
+    def make(arc):
+        points, counts, indices = box(0.5)
+        falling = {1.0: points + [0.0, 1.0, 0.0], 24.0: points + [0.0, -1.0, 0.0]}
+        body_path = tmp_path / "body.usda"
+        body = Usd.Stage.CreateNew(str(body_path))
+        body.SetTimeCodesPerSecond(24)
+        root = "/World/Body" if arc == "sublayer" else "/Body"
+        if arc == "sublayer":
+            UsdGeom.Xform.Define(body, "/World")
+        define_mesh(body, root, None, counts, indices, samples=falling)
+        body.SetDefaultPrim(body.GetPrimAtPath("/" + root.split("/")[1]))
+        body.GetRootLayer().Save()
+
+        shot_path = tmp_path / "shot.usda"
+        shot = Usd.Stage.CreateNew(str(shot_path))
+        shot.SetTimeCodesPerSecond(24)
+        shot.SetStartTimeCode(1)
+        shot.SetEndTimeCode(24)
+        shot.SetDefaultPrim(UsdGeom.Xform.Define(shot, "/World").GetPrim())
+        stretching_sheet(shot, "/World/Cloth")
+        if arc == "reference":
+            shot.DefinePrim("/World/Body").GetReferences().AddReference("./body.usda")
+        elif arc == "payload":
+            shot.DefinePrim("/World/Body").GetPayloads().AddPayload("./body.usda")
+        elif arc == "sublayer":
+            shot.GetRootLayer().subLayerPaths.append("./body.usda")
+        elif arc == "clip":
+            manifest = Sdf.Layer.CreateNew(str(tmp_path / "body_manifest.usda"))
+            spec = Sdf.CreatePrimInLayer(manifest, "/Body")
+            spec.specifier = Sdf.SpecifierOver
+            Sdf.AttributeSpec(spec, "points", Sdf.ValueTypeNames.Point3fArray)
+            manifest.Save()
+            # no points in the shot: a stronger default would hide the clip's samples
+            clips = Usd.ClipsAPI(write_mesh(shot, "/World/Body", counts, indices).GetPrim())
+            clips.SetClipAssetPaths([Sdf.AssetPath("./body.usda")])
+            clips.SetClipPrimPath("/Body")
+            clips.SetClipActive([(1.0, 0.0)])
+            clips.SetClipTimes([(1.0, 1.0), (24.0, 24.0)])
+            clips.SetClipManifestAssetPath(Sdf.AssetPath("./body_manifest.usda"))
+        else:
+            raise ValueError(arc)
+        shot.GetRootLayer().Save()
+        return shot_path, body_path
+    return make
