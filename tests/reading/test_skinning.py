@@ -94,8 +94,11 @@ def test_sample_times_are_the_union_of_animation_blend_shape_and_transform_sampl
     path = tmp_path / "sparse.usda"
     names = skinned_arm(path, bend_degrees=((1.0, 0.0), (4.0, 90.0)), bulge_weights=((1.0, 0.0), (9.5, 1.0)),
                         root_motion=((1.0, (0, 0, 0)), (6.5, (0.3, 0, 0)), (12.0, (0.5, 0, 0))), with_sheet=False)
-    times = load_shot(path).mesh(names["arm"]).times.tolist()
+    times = load_shot(path, skin_keys_only=True).mesh(names["arm"]).times.tolist()
     assert times == [1.0, 2.0, 3.0, 4.0, 6.5, 9.5, 12.0]
+    # by default the frames between the sparse keys of the blend shape and the root are posed too
+    times = load_shot(path).mesh(names["arm"]).times.tolist()
+    assert times == sorted([float(t) for t in range(1, 13)] + [6.5, 9.5])
 
 
 def _unbaked_over_shared_file(shared, name, root, tmp_path):

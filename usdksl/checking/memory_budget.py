@@ -147,13 +147,16 @@ def memory_limit(option: Union[str, int, None] = None,
 
 # --------------------------------------------------------------------------- what is needed
 
-def scan_shot(path: str, time_range: Optional[TimeRange] = None, include=None) -> ShotSize:
-    """Count the meshes ``load_shot(path, time_range, include)`` would load. Reads one sample of points
-    and the face counts of each mesh; whatever cannot be read is left out of the count (the loader then
-    reports it). Raises UsdkslInputError only when the file cannot be opened."""
+def scan_shot(path: str, time_range: Optional[TimeRange] = None, include=None,
+              skin_keys_only: bool = False) -> ShotSize:
+    """Count the meshes ``load_shot(path, time_range, include, skin_keys_only=skin_keys_only)`` would load:
+    a skinned mesh counts the samples it is posed at, the frames between sparse keys included unless
+    ``skin_keys_only`` (usdksl.reading.skinning). Reads one sample of points and the face counts of each
+    mesh; whatever cannot be read is left out of the count (the loader then reports it). Raises
+    UsdkslInputError only when the file cannot be opened."""
     from pxr import UsdGeom
 
-    from ..reading.loader import mesh_prims, mesh_sample_times, open_stage
+    from ..reading.loader import _skinned_meshes, mesh_prims, mesh_sample_times, open_stage
 
     stage = open_stage(path)
     size = ShotSize(stage=stage)
@@ -161,11 +164,16 @@ def scan_shot(path: str, time_range: Optional[TimeRange] = None, include=None) -
         prims = mesh_prims(stage, include)
     except Exception:   # noqa: BLE001  (an estimate: the loader reports what is wrong)
         return size
+    try:
+        skinned = _skinned_meshes(stage, skin_keys_only)
+    except Exception:   # noqa: BLE001  (counted by their authored samples; the loader reports what is wrong)
+        skinned = {}
     starts, ends = [], []
     for prim in prims:
         try:
             mesh = UsdGeom.Mesh(prim)
-            times = mesh_sample_times(prim)
+            posed = skinned.get(str(prim.GetPath()))
+            times = posed.sample_times() if posed is not None else mesh_sample_times(prim)
             first = float(times[0]) if times.size else (time_range[0] if time_range else 0.0)
             points = mesh.GetPointsAttr().Get(first)
             # a value USD could not parse as its type comes back as an opaque object: counted as nothing
