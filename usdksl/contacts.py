@@ -146,20 +146,37 @@ class ContactTable:
                              contacts.face_b, getattr(contacts, "feature", None))
 
     @classmethod
-    def concatenate(cls, tables: Sequence["ContactTable"]) -> "ContactTable":
-        """Tables of consecutive, disjoint time segments of one shot, in time order. Rows are kept as they
-        are (no first-contact merge across segments: face indices may refer to different topologies)."""
+    def concatenate(cls, tables: Sequence["ContactTable"], epochs: Optional[np.ndarray] = None) -> "ContactTable":
+        """Tables of consecutive time pieces of one shot (same meshes), in time order. ``epochs`` int[pieces,
+        meshes]: pieces where a mesh has the same epoch have the same faces; a face pair found again in a later
+        piece with the same epochs for both meshes is kept once, at its first contact (and its latest last
+        contact). Without ``epochs`` every row is kept (face indices may refer to different topologies)."""
         if len(tables) == 1:
             return tables[0]
         if any(table.paths != tables[0].paths for table in tables):
-            raise ValueError("segments of one shot loaded different meshes")
+            raise ValueError("pieces of one shot loaded different meshes")
         if len({table.last_time is None for table in tables}) > 1:
-            raise ValueError("segments disagree on whether last contacts were computed")
+            raise ValueError("pieces disagree on whether last contacts were computed")
         last_time = (None if tables[0].last_time is None
                      else np.concatenate([table.last_time for table in tables]))
-        return cls(paths=tables[0].paths and list(tables[0].paths), last_time=last_time,
-                   **{name: np.concatenate([getattr(table, name) for table in tables])
-                      for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")})
+        columns = {name: np.concatenate([getattr(table, name) for table in tables])
+                   for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")}
+        if epochs is not None and columns["time"].size:
+            piece = np.repeat(np.arange(len(tables)), [table.count for table in tables])
+            epochs = np.asarray(epochs, dtype=np.int64)
+            key = np.stack([columns["mesh_a"], columns["face_a"], epochs[piece, columns["mesh_a"]],
+                            columns["mesh_b"], columns["face_b"], epochs[piece, columns["mesh_b"]]], axis=1)
+            _, first, group = np.unique(key, axis=0, return_index=True, return_inverse=True)
+            group = group.reshape(-1)
+            if last_time is not None:
+                latest = np.full(first.size, -np.inf)
+                np.maximum.at(latest, group, last_time)
+                last_time = latest[group]
+            keep = np.zeros(group.size, bool)
+            keep[first] = True    # rows come in time order, so the first of a group is its first contact
+            columns = {name: column[keep] for name, column in columns.items()}
+            last_time = None if last_time is None else last_time[keep]
+        return cls(paths=tables[0].paths and list(tables[0].paths), last_time=last_time, **columns)
 
     @classmethod
     def empty(cls, paths: Optional[Sequence[str]]) -> "ContactTable":

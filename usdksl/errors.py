@@ -41,6 +41,16 @@ class UsdkslUsageError(UsdkslInputError):
     """Wrong arguments (bad option value, unwritable output directory): exit code 2."""
 
 
+class UsdkslGapError(UsdkslInputError):
+    """A mesh that cannot be followed across some of its samples (an empty or blocked ``points`` sample between
+    samples with points): the shot is checked in pieces around the gap (usdksl.reading.segments)."""
+
+
 class UsdkslEmptyMeshError(UsdkslInputError):
     """A mesh without points, without faces, or whose faces are all degenerate: the loader skips it with a
     warning (placeholders are common in layouts) instead of failing the shot."""
+
+    @property
+    def degenerate(self) -> bool:
+        """Points and faces are there, but every face is a hole or has fewer than 3 vertices."""
+        return "degenerate" in self.message or "fewer than 3" in self.message

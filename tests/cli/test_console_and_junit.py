@@ -110,20 +110,17 @@ def test_junit_is_written_on_bad_input_with_an_error_case(samples_dir, tmp_path,
     assert root.get("errors") == "1" and root.find("testsuite").get("name") == arguments[0].format(**names)
 
 
-def test_nothing_to_check_warns_and_strict_fails_with_a_junit_error(tmp_path):
+def test_nothing_to_check_is_an_input_error_with_a_junit_error(tmp_path):
+    # green must mean checked: a shot in which nothing would be checked is exit 2, with or without --strict
     shot = _nothing_to_check(tmp_path / "still.usda")
     report = tmp_path / "report.xml"
-    lenient = _run(shot, "--out", tmp_path / "a", "--junit", report)
-    assert lenient.exit_code == 0
-    assert "usdksl: warning: no mesh pair left to check" in lenient.stderr.splitlines()
-    root = assert_valid_junit(report.read_text())
-    skipped = root.findall("testsuite/testcase/skipped")
-    assert len(skipped) == 1 and "nothing was checked" in skipped[0].text
-    strict = _run(shot, "--out", tmp_path / "b", "--junit", report, "--strict")
-    assert strict.exit_code == 2
-    assert not (tmp_path / "b").exists()
-    errors = assert_valid_junit(report.read_text()).findall("testsuite/testcase/error")
-    assert len(errors) == 1 and "no mesh pair left to check (--strict)" in errors[0].get("message")
+    for name, extra in (("a", ()), ("b", ("--strict",))):
+        result = _run(shot, "--out", tmp_path / name, "--junit", report, *extra)
+        assert result.exit_code == 2, result.stderr
+        assert "no mesh pair left to check" in result.stderr
+        assert not (tmp_path / name).exists()
+        errors = assert_valid_junit(report.read_text()).findall("testsuite/testcase/error")
+        assert len(errors) == 1 and "no mesh pair left to check" in errors[0].get("message")
 
 
 def test_one_junit_for_several_shots_with_a_failed_one(samples_dir, tmp_path):

@@ -1,23 +1,117 @@
-"""Splitting the checked range at topology changes."""
+"""Meshes that cannot be followed across some samples (empty or blocked points, topology changes): checked over
+the stretches where they have points, every other mesh checked throughout (docs/contracts.md, Topology)."""
 
+import csv
+
+import numpy as np
+import pytest
+from pxr import Sdf, Vt
+
+from builders import define_mesh, grid, new_stage
+from .conftest import run_cli
 from usdksl.errors import UsdkslInputError
-from usdksl.reading.segments import is_topology_change, split_range
+from usdksl.reading.segments import Gap, Stretch, absent_meshes, cut_range, is_topology_change, mesh_gaps
+from usdksl.warning_kinds import EMPTY_SAMPLE, TOPOLOGY_CHANGE
+
+KEY = (np.array([4]), np.array([0, 1, 2, 3]), np.array([], int), 4)
+OTHER_KEY = (np.array([3, 3]), np.array([0, 1, 2, 0, 2, 3]), np.array([], int), 4)
+EMPTY_KEY = (np.array([4]), np.array([0, 1, 2, 3]), np.array([], int), 0)
 
 
-def test_split_range_drops_the_open_gaps():
-    gaps = [(6.0, 12.0, "/A"), (15.0, 18.0, "/B")]
-    assert split_range((1.0, 24.0), gaps) == [(1.0, 6.0), (12.0, 15.0), (18.0, 24.0)]
+def test_gaps_between_stretches_name_their_kind():
+    stretches = [Stretch(1.0, 5.0, True, KEY), Stretch(6.0, 6.0, False, EMPTY_KEY), Stretch(7.0, 9.0, True, KEY),
+                 Stretch(10.0, 12.0, True, OTHER_KEY)]
+    gaps = mesh_gaps("/M", stretches)
+    assert [(g.start, g.end, g.kind) for g in gaps] == [(5.0, 7.0, EMPTY_SAMPLE), (9.0, 10.0, TOPOLOGY_CHANGE)]
+    assert gaps[0].bad_times == (6.0,)
 
 
-def test_split_range_with_overlapping_gaps_and_a_narrow_time_range():
-    gaps = [(6.0, 12.0, "/A"), (8.0, 14.0, "/B"), (30.0, 40.0, "/C")]
-    assert split_range((1.0, 24.0), gaps) == [(1.0, 6.0), (14.0, 24.0)]
-    assert split_range((7.0, 20.0), gaps) == [(14.0, 20.0)]
-    assert split_range((2.0, 5.0), gaps) == [(2.0, 5.0)]
-    assert split_range((7.0, 9.0), gaps) == []
+def test_a_mesh_that_starts_or_ends_empty_is_left_out_before_or_after_its_points():
+    stretches = [Stretch(0.0, 0.0, False, EMPTY_KEY), Stretch(1.0, 5.0, True, KEY), Stretch(6.0, 8.0, False, EMPTY_KEY)]
+    gaps = mesh_gaps("/M", stretches)
+    assert [(g.start, g.end) for g in gaps] == [(-np.inf, 1.0), (5.0, np.inf)]
+    assert mesh_gaps("/M", [Stretch(0.0, 3.0, False, EMPTY_KEY)]) == []   # empty everywhere: an empty mesh
+
+
+def test_the_range_is_cut_at_gap_ends_and_only_covered_meshes_are_absent():
+    gaps = [Gap(5.0, 7.0, "/A", EMPTY_SAMPLE), Gap(-np.inf, 2.0, "/B", EMPTY_SAMPLE)]
+    pieces = cut_range((1.0, 10.0), gaps)
+    assert pieces == [(1.0, 2.0), (2.0, 5.0), (5.0, 7.0), (7.0, 10.0)]
+    stretches = {"/A": [Stretch(1.0, 5.0, True, KEY), Stretch(6.0, 6.0, False, EMPTY_KEY), Stretch(7.0, 10.0, True, KEY)],
+                 "/B": [Stretch(1.0, 1.0, False, EMPTY_KEY), Stretch(2.0, 10.0, True, KEY)]}
+    assert [absent_meshes(piece, gaps, stretches) for piece in pieces] == [{"/B": 2.0}, {}, {"/A": 7.0}, {}]
+    assert cut_range((8.0, 9.0), gaps) == [(8.0, 9.0)]
 
 
 def test_topology_errors_are_recognised():
     assert is_topology_change(UsdkslInputError("topology (faceVertexCounts) changes here", file="f"))
     assert is_topology_change(UsdkslInputError("points count changes from 4 (time 1) to 5", file="f"))
     assert not is_topology_change(UsdkslInputError("point 3 is NaN or infinite", file="f"))
+
+
+# --------------------------------------------------------------------------------------------- whole shots
+
+TIMES = [float(t) for t in range(1, 25)]
+CONTACT_TIME = 11.0   # the sheets come down at y = (11 - t) / 10 and rest on their floors from then on
+
+
+def resting_sheets(path, bad=None):
+    """Two 3x3 sheets, each falling onto a floor of its own and resting there from t = 11 (a sample every frame);
+    ``bad`` {time: 'empty' | 'block'} spoils samples of /World/Cloth only."""
+    stage = new_stage(path, start=1.0, end=24.0)
+    for name, x in (("Cloth", 0.0), ("Other", 10.0)):
+        points, counts, indices = grid(3, 3, 2.0, 2.0, center=(x, 0.0, 0.0))
+        floor, floor_counts, floor_indices = grid(1, 1, 4.0, 4.0, center=(x, 0.0, 0.0))
+        define_mesh(stage, f"/World/{name}Floor", floor, floor_counts, floor_indices)
+        samples = {t: points + [0.0, max(0.0, (CONTACT_TIME - t) / 10.0), 0.0] for t in TIMES}
+        mesh = define_mesh(stage, f"/World/{name}", None, counts, indices, samples=samples)
+        if name == "Cloth":
+            for time, kind in (bad or {}).items():
+                value = Sdf.ValueBlock() if kind == "block" else Vt.Vec3fArray()
+                mesh.GetPointsAttr().Set(value, time)
+    stage.GetRootLayer().Save()
+    return str(path)
+
+
+def contacts(out, stem):
+    with open(out / f"{stem}.contacts.csv", newline="") as stream:
+        return [(row["prim_a"], int(row["face_a"]), row["prim_b"], int(row["face_b"]), float(row["time"]))
+                for row in csv.DictReader(stream)]
+
+
+@pytest.fixture
+def clean(tmp_path):
+    shot = resting_sheets(tmp_path / "clean.usda")
+    result = run_cli("check", shot, "--out", tmp_path / "clean_out")
+    assert result.exit_code == 1, result.stderr
+    rows = contacts(tmp_path / "clean_out", "clean")
+    assert {(a, b) for a, _, b, _, _ in rows} == {("/World/Cloth", "/World/ClothFloor"),
+                                                  ("/World/Other", "/World/OtherFloor")}
+    return rows
+
+
+@pytest.mark.parametrize("bad", [{5.0: "block"}, {5.0: "empty"}, {15.0: "block"}, {15.0: "empty"},
+                                 {1.0: "empty"}, {24.0: "empty"}, {23.0: "block", 24.0: "block"}],
+                         ids=["block-before", "empty-before", "block-resting", "empty-resting", "empty-first",
+                              "empty-last", "blocked-tail"])
+def test_a_bad_sample_leaves_out_only_its_stretch(tmp_path, clean, bad):
+    shot = resting_sheets(tmp_path / "bad.usda", bad)
+    result = run_cli("check", shot, "--out", tmp_path / "out")
+    assert result.exit_code == 1, result.stderr
+    assert "internal error" not in result.stderr
+    # the cloth keeps every contact (it rests on its floor across the gap: reported once, at its first contact)
+    assert contacts(tmp_path / "out", "bad") == clean
+    warnings = [line for line in result.stderr.splitlines() if "warning" in line and "/World/Cloth:" in line]
+    assert len(warnings) == 1, result.stderr
+    assert "empty or blocked" in warnings[0] and f"{min(bad):g}" in warnings[0]
+    strict = run_cli("check", shot, "--out", tmp_path / "strict", "--strict")
+    assert strict.exit_code == 2, strict.stderr
+    assert "/World/Cloth" in strict.stderr and not (tmp_path / "strict").exists()
+
+
+def test_a_mesh_empty_at_every_sample_is_an_empty_mesh(tmp_path):
+    shot = resting_sheets(tmp_path / "bad.usda", {t: "empty" for t in TIMES})
+    result = run_cli("check", shot, "--out", tmp_path / "out")
+    assert result.exit_code == 1, result.stderr
+    assert {(a, b) for a, _, b, _, _ in contacts(tmp_path / "out", "bad")} == {("/World/Other", "/World/OtherFloor")}
+    assert "/World/Cloth: time 1: empty mesh" in result.stderr

@@ -21,18 +21,22 @@ from ..baseline import Baseline, BaselineComparison, compare
 from ..ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..clock import StageClock
 from ..contacts import ContactTable
-from ..errors import UsdkslInputError, UsdkslUsageError
+from ..errors import UsdkslGapError, UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
-from ..reading.blowups import describe_blowups, shot_blowups
+from ..reading.blowups import describe_blowups, describe_glitches, shot_faults
 from ..reading.interpolation import reject_spline_motion
 from ..reading.loader import load_shot, mesh_prims, open_stage
-from ..reading.scope import Plan, ScopeOptions, include_predicate, merge_plans, plan_shot, split_patterns
-from ..reading.segments import full_range, is_topology_change, split_range, topology_gaps
+from ..reading.scope import (PAIR_RIGID_ONLY, PAIR_SELF_RIGID, PAIR_SELF_STATIC, PAIR_STATIC_STATIC, Plan, ScopeOptions,
+                             include_predicate, merge_plans, plan_shot, split_patterns)
+from ..reading.segments import (absent_meshes, cut_range, full_range, is_topology_change, mesh_gaps, mesh_stretches,
+                                topology_epochs)
 from ..reports.formats import contacts_csv, json_report, mesh_pair_lines, summary_csv, summary_line
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import package_version
+from ..warning_kinds import BLOW_UP, CACHE_GLITCH, EMPTY_MESH, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .collision import METHODS, default_threads, find_contacts
+from .coverage import Coverage, shot_coverage
 from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
 from .progress import Progress
 
@@ -226,6 +230,8 @@ class CheckResult:
     baseline: Optional[BaselineComparison] = None
     #: Threads the core ran with (options.threads, or every core of the process that checked).
     threads: int = 1
+    #: Every prim and stretch of the checked range, checked or not, with why (usdksl.checking.coverage).
+    coverage: Optional[Coverage] = None
 
     @property
     def undecided(self) -> int:
@@ -242,7 +248,8 @@ class CheckResult:
         """The final line of ``usdksl check``."""
         return summary_line(self.table, self.plan, self.span, self.seconds, self.clock,
                             None if self.baseline is None else self.baseline.known,
-                            None if self.baseline is None else self.baseline.fixed_count)
+                            None if self.baseline is None else self.baseline.fixed_count,
+                            "" if self.coverage is None else self.coverage.summary_phrase())
 
 
 #: progress(start, end, label="") -> callback(time_reached, contacts_so_far), e.g. usdksl.checking.progress.Progress
@@ -325,23 +332,32 @@ class PlannedShot:
     segments: list
     plans: List[Plan]
     plan: Plan
+    #: Gaps of meshes that cannot be followed across some samples (usdksl.reading.segments.Gap).
+    gaps: list = field(default_factory=list)
+    #: Every prim and stretch, checked or not (usdksl.checking.coverage).
+    coverage: Optional[Coverage] = None
 
 
-def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[[str, str], None]) -> PlannedShot:
+def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[..., None],
+                  require_pairs: bool = True) -> PlannedShot:
     """Load ``shot`` over ``options.time_range`` (the whole shot when None) and plan what is checked; says
-    the loader's warnings and the plan lines. Raises UsdkslInputError on bad input (spline motion included)
-    and, under ``options.strict``, when no mesh pair is left to check."""
+    the loader's warnings, the plan lines and the coverage account. Raises UsdkslInputError on bad input (spline
+    motion included), when ``options.time_range`` holds no sample, and when no mesh pair is left to check (except
+    in a time range where nothing moves, or with ``require_pairs`` False: a Dask window, planned whole later)."""
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
-    size = scan_shot(shot, options.time_range, predicate)   # its open stage makes the loader's open free
+    # its open stage makes the loader's open free
+    size = scan_shot(shot, options.time_range, predicate, skin_keys_only=options.skin_keys_only)
     check_memory(size, options.method, memory_limit(options.memory_limit), file=name,
                  threads=options.threads or default_threads())
-    segments = load_segments(shot, options.time_range, predicate, say, name, options.strict,
+    segments, gaps = load_segments(shot, options.time_range, predicate, say, name, options.strict,
                              allow_missing_assets=options.allow_missing_assets, skin_keys_only=options.skin_keys_only)
     del size
+    require_samples_in_range(segments[0][1], options.time_range, name)
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
-    unchecked = [item for _, segment in segments for item in segment.unchecked]
+    # an empty mesh holds no surface a contact could be with: named, but nothing is missed without it
+    unchecked = [item for _, segment in segments for item in segment.unchecked if item.kind != EMPTY_MESH]
     if options.strict and unchecked:
         raise UsdkslInputError(f"{unchecked[0].reason} (--strict)", file=name, prim=unchecked[0].prim)
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),
@@ -360,15 +376,41 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[[st
             say(PLAN, line.strip() if line.startswith("pairs") else line)
         plans.append(segment_plan)
     plan = merge_plans(plans)
-    if options.strict and not plan.checked_pairs:
-        raise UsdkslInputError("no mesh pair left to check (--strict)", file=name)
-    return PlannedShot(segments=segments, plans=plans, plan=plan)
+    if not plan.checked_pairs and require_pairs:
+        still = {PAIR_STATIC_STATIC, PAIR_SELF_STATIC, PAIR_SELF_RIGID, PAIR_RIGID_ONLY}
+        if (options.time_range is None or options.strict or plan.skipped_meshes or plan.excluded_paths
+                or not all(reason in still for _, _, reason in plan.skipped_pairs)):
+            raise UsdkslInputError("no mesh pair left to check: nothing would be checked (-v shows the plan)",
+                                   file=name)
+        # a farm chunk in which the cloth rests: its motion on either side is in the neighbouring chunks
+        say(WARNING, f"nothing moves over {options.time_range[0]:g}..{options.time_range[1]:g}: no pair needs a check",
+            NOTHING_CHECKED)
+    coverage = shot_coverage(segments, plans, plan, gaps, checked_span(options, segments), options.time_range)
+    for note in dict.fromkeys(n for _, segment in segments for n in segment.notes):
+        say(INFO, note, SPARSE_SKIN_KEYS)
+    for line in coverage.lines():
+        say(PLAN, line)
+    return PlannedShot(segments=segments, plans=plans, plan=plan, gaps=gaps, coverage=coverage)
+
+
+def require_samples_in_range(shot, time_range: Optional[TimeRange], name: str) -> None:
+    """Input error when ``time_range`` lies wholly before or after every animated mesh's samples of the loaded
+    ``shot`` (usdksl.reading.loader.Shot): nothing in it moves, so a check there would pass without having looked
+    at the animation."""
+    span = shot.sample_span
+    if time_range is None or span is None:
+        return
+    if time_range[1] < span[0] or time_range[0] > span[1]:
+        raise UsdkslInputError(f"--time-range {time_range[0]:g}..{time_range[1]:g} holds no sample of any mesh: "
+                               f"the animated meshes' samples span {span[0]:g}..{span[1]:g}", file=name)
 
 
 def checked_span(options: CheckOptions, segments) -> TimeRange:
     """The range a check covers, in time codes: ``options.time_range``, or the loaded samples' span."""
     if options.time_range is not None:
         return options.time_range
+    if segments[0][0] is not None:   # pieces cut at gaps
+        return (float(segments[0][0][0]), float(segments[-1][0][1]))
     all_times = np.concatenate([segment.times for _, segment in segments])
     return (float(all_times.min()), float(all_times.max())) if all_times.size else (0.0, 0.0)
 
@@ -379,9 +421,7 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
     """The result of a check from the contacts of each segment (``tables``): held against ``baseline``,
     cross-checked when asked, every report rendered. Says what a finished check says."""
     plan = planned.plan
-    if not plan.checked_pairs:
-        say(WARNING, "no mesh pair left to check")
-    table = ContactTable.concatenate(list(tables))
+    table = concatenate_pieces(planned.segments, tables)
     clock = StageClock.from_metadata(planned.segments[0][1].metadata)
     comparison = None
     if baseline is not None:
@@ -397,25 +437,28 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
         crosscheck_text, consistent = _crosscheck(planned.segments, planned.plans, tables, say)
         if not consistent:
             exit_code = CROSSCHECK_DISAGREES
+    findings = [{"level": message.level, "kind": message.kind, "text": message.text} for message in messages
+                if message.level in (WARNING, ERROR) or message.kind is not None]
     files, stdout = render_files(shot, name, options, targets, planned.segments, plan, tables, exit_code, span,
-                                 crosscheck_text, comparison)
+                                 crosscheck_text, comparison, planned.coverage, findings)
     return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,
                        segments=[(r, t) for (r, _), t in zip(planned.segments, tables)], clock=clock,
-                       baseline=comparison, threads=options.threads or default_threads())
+                       baseline=comparison, threads=options.threads or default_threads(), coverage=planned.coverage)
 
 
 def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
                  tables: Sequence[ContactTable], exit_code: int, span: TimeRange,
                  crosscheck_text: Optional[str] = None,
-                 comparison: Optional[BaselineComparison] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
+                 comparison: Optional[BaselineComparison] = None, coverage: Optional[Coverage] = None,
+                 findings: Optional[list] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
     """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
     stdout or None), in write order.
 
     ``segments``: [(range, loaded Shot)] as :func:`load_segments` gives them, ``tables`` the contacts of
     each. A run over a time range (a farm chunk) also writes its manifest (usdksl.reports.manifest)."""
-    table = ContactTable.concatenate(list(tables))
+    table = concatenate_pieces(segments, tables)
     clock = StageClock.from_metadata(segments[0][1].metadata)
     files: Dict[Path, FileData] = {}
     known = None if comparison is None else comparison.known
@@ -438,7 +481,8 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     if targets.json_path is not None or targets.json_to_stdout:
         json_text = json_report(name, options.settings(), plan, table, exit_code, clock,
                                 version=package_version(),
-                                baseline=None if comparison is None else comparison.to_dict(), known=known)
+                                baseline=None if comparison is None else comparison.to_dict(), known=known,
+                                coverage=None if coverage is None else coverage.to_dict(), findings=findings)
         if targets.json_path is not None:
             files[targets.json_path] = json_text
         else:
@@ -454,6 +498,14 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
 
         files[targets.plot_path] = timeline_png(table, clock, span, name, known)
     return files, stdout
+
+
+def concatenate_pieces(segments, tables: Sequence[ContactTable]) -> ContactTable:
+    """The contacts of a shot checked in pieces ([(range, Shot)], usdksl.reading.segments) as one table: a face
+    pair whose meshes keep their faces across pieces is reported once, at its first contact."""
+    if len(tables) == 1:
+        return tables[0]
+    return ContactTable.concatenate(list(tables), topology_epochs([shot for _, shot in segments]))
 
 
 def baseline_messages(comparison: BaselineComparison, clock: StageClock) -> List[Tuple[str, str]]:
@@ -479,52 +531,66 @@ def baseline_messages(comparison: BaselineComparison, clock: StageClock) -> List
     return lines
 
 
-def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[[str, str], None],
+def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[..., None],
                    strict: bool) -> None:
-    """Warn about vertices of checked meshes that blow up (usdksl.reading.blowups); under ``strict``
-    the first one is an input error (exit 2, nothing written)."""
+    """Warn about vertices of checked meshes that blow up and about checked meshes, or most of one, that
+    jump away and back (cache glitches; usdksl.reading.blowups); under ``strict`` the first glitch, else
+    the first blow-up, is an input error (exit 2, nothing written)."""
     for (_, segment), segment_plan in zip(segments, plans):
         checked = sorted(set(segment_plan.pairs.reshape(-1).tolist()))
-        blowups = shot_blowups([segment.meshes[index] for index in checked])
+        blowups, glitches = shot_faults([segment.meshes[index] for index in checked])
+        if glitches and strict:
+            first = glitches[0]
+            raise UsdkslInputError(f"cache glitch: {first.describe()} (--strict)", file=name, prim=first.prim,
+                                   time=first.time)
         if blowups and strict:
             first = blowups[0]
             raise UsdkslInputError(
                 f"vertex {first.vertex} blows up between time {first.time_before:g} and {first.time_after:g} "
                 f"({first.excess:.3g} units beyond the mesh's motion; --strict)", file=name, prim=first.prim)
+        for line in describe_glitches(glitches, name):
+            say(WARNING, line, CACHE_GLITCH)
         for line in describe_blowups(blowups, name):
-            say(WARNING, line)
+            say(WARNING, line, BLOW_UP)
 
 
-def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[[str, str], None],
+def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[..., None],
                   name: Optional[str] = None, strict: bool = False, allow_missing_assets: bool = False,
                   skin_keys_only: bool = False):
-    """[(range, Shot)]: the whole shot, or one Shot per constant-topology stretch (usdksl.reading.segments)
-    with a warning per topology change (an input error under ``strict``: the interval across a change is
-    not checked); ``range`` is None when the whole shot is checked without a time range."""
+    """([(range, Shot)], gaps): the whole shot, or, when a mesh cannot be followed across some samples (a topology
+    change, an empty or blocked points sample), one Shot per piece of the range cut at every such gap
+    (usdksl.reading.segments), the meshes a gap covers loaded still and left out there. Warns once per gap (an
+    input error under ``strict``: the gap is not checked); ``range`` is None when the whole shot is checked
+    without a time range. ``gaps``: usdksl.reading.segments.Gap of every mesh that has them."""
+    name = name or shot
+    options = dict(include=predicate, allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only)
     try:
-        return [(time_range, load_shot(shot, time_range=time_range, include=predicate,
-                                       allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only))]
-    except UsdkslInputError as error:
-        if not is_topology_change(error):
+        return [(time_range, load_shot(shot, time_range=time_range, **options))], []
+    except (UsdkslGapError, UsdkslInputError) as error:
+        if not (isinstance(error, UsdkslGapError) or is_topology_change(error)):
             raise
-        stage = open_stage(shot)
-        paths = [str(prim.GetPath()) for prim in mesh_prims(stage, predicate)]
-        gaps = topology_gaps(stage, paths)
-        ranges = split_range(full_range(stage, paths, time_range), gaps)
-        if not gaps or not ranges:
-            raise
+        first_error = error
+    stage = open_stage(shot)
+    prims = mesh_prims(stage, predicate)
+    stretches = {str(prim.GetPath()): mesh_stretches(prim) for prim in prims}
+    full = full_range((np.array([s.first for s in found] + [s.last for s in found]) for found in stretches.values()),
+                      time_range)
+    gaps = [gap for path, found in stretches.items() for gap in mesh_gaps(path, found)
+            if gap.covers(full) or (full[0] == full[1] and gap.start < full[0] < gap.end)]
+    if not gaps:
+        raise first_error
+    gaps.sort(key=lambda gap: (max(gap.start, full[0]), gap.path))
     if strict:
-        gap_start, gap_end, path = gaps[0]
-        raise UsdkslInputError(f"topology changes between time {gap_start:g} and {gap_end:g}, so that interval "
-                               f"cannot be checked (--strict)", file=name or shot, prim=path, time=gap_start)
-    for gap_start, gap_end, path in gaps:
-        say(WARNING, f"{name or shot}: {path}: topology changes between time {gap_start:g} and {gap_end:g}; "
-                     f"that interval is not checked")
-    say(WARNING, f"checking {len(ranges)} constant-topology segments: "
-                 + ", ".join(f"{a:g}..{b:g}" for a, b in ranges))
-    return [(segment_range, load_shot(shot, time_range=segment_range, include=predicate,
-                                      allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only))
-            for segment_range in ranges]
+        gap = gaps[0]
+        raise UsdkslInputError(f"{gap.describe(name).split(': ', 2)[2]} (--strict)", file=name, prim=gap.path,
+                               time=max(gap.start, full[0]))
+    for gap in gaps:
+        say(WARNING, gap.describe(name), gap.kind)
+    pieces = cut_range(full, gaps)
+    if len(pieces) > 1:
+        say(INFO, f"checking {len(pieces)} segments cut at those gaps: " + ", ".join(f"{a:g}..{b:g}" for a, b in pieces))
+    return [(piece, load_shot(shot, time_range=piece, absent=absent_meshes(piece, gaps, stretches), **options))
+            for piece in pieces], gaps
 
 
 def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], options: CheckOptions,

@@ -53,6 +53,7 @@ import numpy as np
 from pxr import Usd, UsdGeom
 
 from ..errors import UsdkslInputError
+from ..warning_kinds import NESTED_INSTANCER
 from .meshes import (MeshData, MeshTopology, UncheckedGeometry, _MatrixCache, check_finite_points, classified_mesh,
                      rendered, unmeshed_solid_kind,
                      read_local_points, read_topology, xform_sample_times)
@@ -322,7 +323,8 @@ def _prototype_meshes(instancer: Instancer, wanted: Callable[[str], bool],
                 reason = (f"a PointInstancer inside prototype {index} of {instancer.path}: nested instancing is "
                           f"not supported; its instances are not checked")
                 instancer.warnings.append(f"{instancer.file}: {prim.GetPath()}: {reason}")
-                instancer.unchecked.append(UncheckedGeometry(prim=str(prim.GetPath()), reason=reason))
+                instancer.unchecked.append(UncheckedGeometry(prim=str(prim.GetPath()), reason=reason,
+                                                             kind=NESTED_INSTANCER))
                 prims.PruneChildren()
                 continue
             below = str(prim.GetPath().MakeRelativePath(root.GetPath()))

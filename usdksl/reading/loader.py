@@ -32,9 +32,10 @@ import re
 from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
-from pxr import Tf, Usd, UsdGeom
+from pxr import Gf, Tf, Usd, UsdGeom
 
-from ..errors import UsdkslEmptyMeshError, UsdkslInputError, UsdkslUsageError
+from ..errors import UsdkslEmptyMeshError, UsdkslGapError, UsdkslInputError, UsdkslUsageError
+from ..warning_kinds import EMPTY_MESH, UNMESHED_SOLID, UNRESOLVED_ASSET
 from ..unmasked import distinct_sorted
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
 from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
@@ -113,8 +114,10 @@ def open_stage(path: Union[str, os.PathLike]) -> Usd.Stage:
         raise UsdkslInputError("not a file", file=file)
     elif not os.access(file, os.R_OK):
         raise UsdkslInputError("file is not readable", file=file)
+    from .composition import open_stage_trapping_asset_warnings   # the loader names unresolved assets itself
+
     try:
-        stage = Usd.Stage.Open(file, Usd.Stage.LoadAll)
+        stage = open_stage_trapping_asset_warnings(file)
     except Tf.ErrorException as error:
         raise UsdkslInputError(f"cannot open as USD: {_pxr_error_text(error, file)}", file=file) from None
     if stage is None:
@@ -210,7 +213,7 @@ def unmeshed_solids(stage: Usd.Stage, include: IncludeFilter = None,
         found.setdefault(kind, []).append(path)
     return [UncheckedGeometry(prim=paths[0], reason=(
                 f"{len(paths)} UsdGeom.{kind} prim{'s' if len(paths) > 1 else ''} (first {paths[0]}) not "
-                f"checked: usdksl checks UsdGeom.Mesh surfaces only; export colliders as meshes"))
+                f"checked: usdksl checks UsdGeom.Mesh surfaces only; export colliders as meshes"), kind=UNMESHED_SOLID)
             for kind, paths in found.items()]
 
 
@@ -232,19 +235,21 @@ def _check_time_range(file: str, time_range) -> Optional[Tuple[float, float]]:
 
 def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, float]] = None,
               include: IncludeFilter = None, allow_missing_assets: bool = False,
-              skin_keys_only: bool = False) -> Shot:
+              skin_keys_only: bool = False, absent: Optional[Dict[str, float]] = None) -> Shot:
     """Load every mesh of a USD shot in world space (see module docstring).
 
     ``time_range=(a, b)``: each animated mesh keeps its samples inside (a, b) plus its
     values evaluated exactly at a and b. ``include``: see :func:`mesh_prims`.
     ``allow_missing_assets``: load what composes when an asset does not resolve (each is listed in
     :attr:`Shot.unchecked`) instead of raising. ``skin_keys_only``: pose skinned meshes at their keys only
-    (:mod:`usdksl.reading.skinning`).
-    Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input.
+    (:mod:`usdksl.reading.skinning`). ``absent``: {mesh path: time} of meshes loaded still at that one time
+    and listed in :attr:`Shot.absent` (a piece of a shot where they have no points: usdksl.reading.segments).
+    Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input, and
+    :class:`usdksl.errors.UsdkslGapError` when a mesh has empty or blocked samples between samples with points.
     """
     file = os.fspath(path)
     try:
-        return _load_shot(file, time_range, include, allow_missing_assets, skin_keys_only)
+        return _load_shot(file, time_range, include, allow_missing_assets, skin_keys_only, absent or {})
     except UsdkslInputError as error:   # readers below the loader know the prim but not the file
         if error.file:
             raise
@@ -252,16 +257,30 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
 
 
 def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: IncludeFilter,
-               allow_missing_assets: bool = False, skin_keys_only: bool = False) -> Shot:
+               allow_missing_assets: bool = False, skin_keys_only: bool = False,
+               absent: Optional[Dict[str, float]] = None) -> Shot:
     from . import layer_rates   # it builds on this module
+    from . import composition
 
     time_range = _check_time_range(file, time_range)
     stage = open_stage(file)
+    missing = composition.unresolved_assets(stage)   # composed without them, a contact with them goes unseen
+    if missing and not allow_missing_assets:
+        raise UsdkslInputError(composition.refusal(missing), file=file, prim=missing[0].requester)
     metadata = stage_metadata(stage)
-    warnings: List[str] = []
-    unchecked: List[UncheckedGeometry] = []
-    sources = _mesh_sources(stage, include, file, warnings, unchecked)
-    per_mesh_times = [_window(times, time_range) for times in _source_sample_times(sources, file)]
+    unchecked: List[UncheckedGeometry] = [
+        UncheckedGeometry(prim=asset.requester, reason=composition.not_checked(asset), kind=UNRESOLVED_ASSET)
+        for asset in missing]
+    warnings: List[str] = [f"{file}: {item.prim}: {item.reason}" for item in unchecked]
+    try:
+        sources = _mesh_sources(stage, include, file, warnings, unchecked, skin_keys_only)
+    except UsdkslInputError as error:
+        if not missing:
+            raise
+        raise type(error)(f"{error.message} ({composition.summary(missing)})", file=error.file or file,
+                          prim=error.prim, time=error.time) from None
+    sample_times = _source_sample_times(sources, file)
+    per_mesh_times = [_window(times, time_range) for times in sample_times]
     animated = [times for times in per_mesh_times if times.size]
     if animated:
         reference_time = float(min(times[0] for times in animated))
@@ -276,11 +295,18 @@ def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: In
     for source, times in zip(sources, per_mesh_times):
         if times.size == 0:
             times = np.array([reference_time], dtype=np.float64)
+        if source.path in absent:
+            times = np.array([absent[source.path]], dtype=np.float64)
         try:
             loaded = source.load(times, file, matrices)
         except UsdkslEmptyMeshError as error:
+            if not error.degenerate and _shows_surface_within(getattr(source, "prim", None), times):
+                raise UsdkslGapError(f"points are empty or blocked here ({error.message})", file=file,
+                                     prim=error.prim, time=error.time) from None
             empty.append(error)
             warnings.append(f"{error}; skipped")
+            unchecked.append(UncheckedGeometry(prim=error.prim or source.path, reason=f"{error.message}; skipped",
+                                               kind=EMPTY_MESH))
             continue
         except Tf.ErrorException as error:
             raise UsdkslInputError(f"cannot read mesh: {_pxr_error_text(error)}", file=file,
@@ -296,16 +322,19 @@ def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: In
                                file=file)
     warnings.extend(layer_rates.rescaled_layer_warnings(
         stage, [prim for source in sources for prim in source.motion_prims()], file))
-    shot_times = distinct_sorted(np.concatenate([mesh.times for mesh in meshes]))
-    return Shot(path=file, meshes=meshes, times=shot_times, metadata=metadata, stage=stage,
-                warnings=warnings, unchecked=unchecked)
+    present = [mesh for mesh in meshes if mesh.path not in absent] or meshes
+    shot_times = distinct_sorted(np.concatenate([mesh.times for mesh in present]))
+    return Shot(path=file, meshes=meshes, times=shot_times, metadata=metadata, stage=stage, absent=frozenset(absent),
+                sample_span=_sample_span(sample_times),
+                warnings=warnings, unchecked=unchecked, notes=_sparse_skin_notes(sources, time_range, file))
 
 
 def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings: List[str],
-                  unchecked: Optional[List[UncheckedGeometry]] = None) -> list:
+                  unchecked: Optional[List[UncheckedGeometry]] = None, skin_keys_only: bool = False) -> list:
     """What load_shot loads, in its order: a skinned mesh, an authored mesh or a PointInstancer's
     prototype mesh, each with ``sample_times()`` and ``load()``. Geometry read past without a check
     (nested instancers, solid non-meshes) goes to ``unchecked``, each with a line in ``warnings``.
+    ``skin_keys_only``: skinned meshes are posed at their keys only (:mod:`usdksl.reading.skinning`).
     Raises UsdkslInputError when there is nothing to load."""
     from . import instancing   # it builds on this module
 
@@ -313,7 +342,7 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
     in_prototypes: List[Tuple[str, str]] = []     # (kind, path) of solid non-meshes in instanced prototypes
     try:
         prims = mesh_prims(stage, include)
-        skinned = _skinned_meshes(stage)
+        skinned = _skinned_meshes(stage, skin_keys_only)
         sources = [skinned.get(str(prim.GetPath())) or _AuthoredMesh(prim) for prim in prims]
         sources += instancing.find_instanced_meshes(stage, _include_predicate(include), file, warnings,
                                                      skinned, unchecked, in_prototypes)
@@ -333,7 +362,7 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
 SKEL_ROOT_SCHEMA = "SkelRoot"
 
 
-def _skinned_meshes(stage: Usd.Stage) -> dict:
+def _skinned_meshes(stage: Usd.Stage, keys_only: bool = False) -> dict:
     """:func:`usdksl.reading.skinning.find_skinned_meshes`, or {} when no prim it would visit is a SkelRoot
     (then UsdSkel is not imported). A USD that cannot name the schema's type asks UsdSkel itself."""
     skel_root = Usd.SchemaRegistry.GetTypeFromSchemaTypeName(SKEL_ROOT_SCHEMA)
@@ -343,7 +372,20 @@ def _skinned_meshes(stage: Usd.Stage) -> dict:
             return {}
     from . import skinning   # it builds on this module
 
-    return skinning.find_skinned_meshes(stage)
+    return skinning.find_skinned_meshes(stage, keys_only=keys_only)
+
+
+def _sparse_skin_notes(sources: Sequence, time_range: Optional[Tuple[float, float]], file: str) -> List[str]:
+    """:func:`usdksl.reading.skinning.sparse_key_notes` on the skinned meshes among ``sources`` (instanced
+    prototypes included), each line led by ``file``."""
+    # duck-typed: the skinning module is imported only when the stage has a SkelRoot
+    skinned = [getattr(source, "skinned", None) or source for source in sources]
+    skinned = [mesh for mesh in skinned if hasattr(mesh, "frames_between_keys")]
+    if not skinned:
+        return []
+    from . import skinning   # it builds on this module
+
+    return [f"{file}: {line}" for line in skinning.sparse_key_notes(skinned, time_range)]
 
 
 def _source_sample_times(sources: Sequence, file: str) -> List[np.ndarray]:
@@ -354,13 +396,40 @@ def _source_sample_times(sources: Sequence, file: str) -> List[np.ndarray]:
                                file=file) from None
 
 
-def shot_sample_times(path: Union[str, os.PathLike], include: IncludeFilter = None) -> List[np.ndarray]:
+def shot_sample_times(path: Union[str, os.PathLike], include: IncludeFilter = None,
+                      skin_keys_only: bool = False) -> List[np.ndarray]:
     """float64[K_i] per mesh source of :func:`load_shot` (a skinned, authored or instanced mesh): the time
-    codes at which it has a sample, empty for a still one. Reads time samples only, never points, so it
-    is cheap on any cache. Raises UsdkslInputError like load_shot."""
+    codes at which it has a sample, empty for a still one; a skinned mesh's include the frames it is posed at
+    between sparse keys unless ``skin_keys_only`` (:mod:`usdksl.reading.skinning`). Reads time samples only,
+    never points, so it is cheap on any cache. Raises UsdkslInputError like load_shot."""
     file = os.fspath(path)
     stage = open_stage(file)   # held while the sources' prims are read: they die with it
-    return _source_sample_times(_mesh_sources(stage, include, file, []), file)
+    return _source_sample_times(_mesh_sources(stage, include, file, [], skin_keys_only=skin_keys_only), file)
+
+
+def _sample_span(sample_times: Sequence[np.ndarray]) -> Optional[Tuple[float, float]]:
+    """First and last sample of the animated sources (more than one sample), or None."""
+    animated = [times for times in sample_times if times.size > 1]
+    if not animated:
+        return None
+    return (min(float(times[0]) for times in animated), max(float(times[-1]) for times in animated))
+
+
+def _shows_surface_within(prim: Optional[Usd.Prim], times: np.ndarray) -> bool:
+    """Whether a UsdGeom.Mesh ``prim`` has a ``points`` sample with points and faces within ``times``' span: then
+    an empty sample is a gap in the mesh, not an empty mesh."""
+    if prim is None or not prim.IsA(UsdGeom.Mesh) or times.size == 0:
+        return False
+    mesh = UsdGeom.Mesh(prim)
+    points = mesh.GetPointsAttr()
+    first, last = float(times[0]), float(times[-1])
+    inside = [t for t in points.GetTimeSamplesInInterval(Gf.Interval(first, last))] or [first]
+    for time in inside:
+        value = points.Get(time)
+        counts = mesh.GetFaceVertexCountsAttr().Get(time)
+        if value is not None and len(value) and counts is not None and len(counts):
+            return True
+    return False
 
 
 class _AuthoredMesh:

@@ -92,6 +92,8 @@ class UncheckedGeometry:
 
     prim: str
     reason: str
+    #: Stable name of why (usdksl.warning_kinds), None when not named.
+    kind: Optional[str] = None
 
 
 @dataclass(eq=False)
@@ -105,6 +107,14 @@ class Shot:
     stage: Usd.Stage = field(repr=False)
     warnings: List[str] = field(default_factory=list)   # one line each: skipped meshes, rescaled layers
     unchecked: List[UncheckedGeometry] = field(default_factory=list)   # each also has a warning line
+    #: Meshes loaded still, at one sample of a neighbouring stretch, only so that every piece of a shot cut at
+    #: gaps (usdksl.reading.segments) has the same meshes: no points here, never in a checked pair.
+    absent: frozenset = frozenset()
+    #: Information lines about how the shot was read (not warnings): e.g. meshes posed at every frame.
+    notes: List[str] = field(default_factory=list)
+    #: First and last sample (time codes) of the animated meshes over the whole stage, before any time range
+    #: windows them; None when nothing is animated.
+    sample_span: Optional[Tuple[float, float]] = None
 
     def mesh(self, path: str) -> MeshData:
         for mesh in self.meshes:

@@ -41,6 +41,7 @@ MESH_EXCLUDED_BY_PATTERN = "excluded by --prims/--exclude"
 MESH_COLLISION_DISABLED = "physics:collisionEnabled = false"
 MESH_GUIDE = "purpose guide (use --include-guides)"
 MESH_INVISIBLE = "invisible over the whole checked range (use --include-invisible)"
+MESH_ABSENT = "no points over this stretch (empty or blocked samples, or a topology change)"
 
 # Reasons a pair is left out (pair level), in the order they are tried.
 PAIR_MESH_SKIPPED = "a mesh of the pair is skipped"
@@ -82,6 +83,8 @@ class SceneFlags:
     self_collision: np.ndarray             # bool[N], usdksl:selfCollision (default true)
     filtered: np.ndarray                   # bool[N, N], symmetric: physics:filteredPairs
     group_filtered: np.ndarray             # bool[N, N], symmetric: collision groups forbid the pair
+    #: bool[N]: no points over the checked stretch (usdksl.reading.segments); None: every mesh has points.
+    absent: Optional[np.ndarray] = None
 
     @classmethod
     def permissive(cls, count: int) -> "SceneFlags":
@@ -226,6 +229,7 @@ def plan_pairs(paths: Sequence[str], kinds: Sequence[str], moving: np.ndarray, f
         (~flags.collision_enabled, MESH_COLLISION_DISABLED),
         (flags.guide & (not options.include_guides), MESH_GUIDE),
         (flags.invisible & (not options.include_invisible), MESH_INVISIBLE),
+        (np.zeros(count, bool) if flags.absent is None else flags.absent, MESH_ABSENT),
     ]
     for mask, reason in mesh_rules:
         for index in np.flatnonzero(mask).tolist():
@@ -430,6 +434,8 @@ def plan_shot(shot, options: ScopeOptions = ScopeOptions(), time_range=None) -> 
         time_range = (float(shot.times[0]), float(shot.times[-1]))
     flags = read_scene_flags(shot.stage, [getattr(mesh, "scene_path", mesh.path) for mesh in shot.meshes],
                              time_range)
+    if shot.absent:
+        flags.absent = np.array([path in shot.absent for path in paths], bool)
     plan = plan_pairs(paths, kinds, moving, flags, options)
     for index, mesh in enumerate(shot.meshes):
         if mesh.kind != "static" and not moving[index]:

@@ -133,9 +133,11 @@ def clock_settings(clock: StageClock) -> dict:
 
 
 def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_code: int, clock: StageClock,
-                version: str = "", baseline: Optional[dict] = None, known: Optional[np.ndarray] = None) -> str:
-    """The --json document: shot, settings, clock, plan, summary rows, contacts, exit code; with a
-    baseline its comparison (BaselineComparison.to_dict) and each contact's status."""
+                version: str = "", baseline: Optional[dict] = None, known: Optional[np.ndarray] = None,
+                coverage: Optional[dict] = None, findings: Optional[list] = None) -> str:
+    """The --json document: shot, settings, clock, plan, coverage (usdksl.checking.coverage.Coverage.to_dict),
+    findings (warnings with their stable kind), summary rows, contacts, exit code; with a baseline its comparison
+    (BaselineComparison.to_dict) and each contact's status."""
     document = {
         "tool": "usdksl",
         "version": version,
@@ -143,6 +145,8 @@ def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_
         "settings": settings,
         "clock": clock_settings(clock),
         "plan": plan.to_dict(),
+        "coverage": coverage,
+        "findings": list(findings or []),
         "summary": summary_rows(table, clock, known),
         "contacts": contact_records(table, clock, known),
         "contact_count": table.count,
@@ -170,19 +174,23 @@ def mesh_pair_lines(table: ContactTable, clock: StageClock, known: Optional[np.n
 
 
 def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds: float,
-                 clock: StageClock, known: Optional[np.ndarray] = None, fixed: int = 0) -> str:
+                 clock: StageClock, known: Optional[np.ndarray] = None, fixed: int = 0, unchecked: str = "") -> str:
     """The final line printed after every run; with ``known`` (from a baseline) it says how many contacts
-    are new and known, and ``fixed`` how many baseline entries no longer occur."""
+    are new and known, and ``fixed`` how many baseline entries no longer occur. ``unchecked``: what the
+    coverage account says went unchecked (usdksl.checking.coverage.Coverage.summary_phrase); a shot with
+    no contacts is then not called clean."""
     pairs = len(table.summary())
     span = "" if time_range is None else f" over {time_range[0]:g}..{time_range[1]:g}"
     checked = f"checked {plan.checked_pairs} pair{'s' if plan.checked_pairs != 1 else ''}{span} in {seconds:.1f}s"
+    checked += unchecked
     rigid_only = plan.skipped_pair_counts().get(PAIR_RIGID_ONLY, 0) if hasattr(plan, "skipped_pair_counts") else 0
     if rigid_only:
         checked += (f"; {rigid_only} rigid-only pair{'s' if rigid_only != 1 else ''} left out "
                     f"(neither mesh deforms; --rigid checks them)")
     fixed_text = f", {fixed} fixed" if known is not None else ""
     if table.count == 0:
-        return f"usdksl: clean: no contacts{fixed_text if fixed else ''}; {checked}"
+        verdict = "no contacts in what was checked" if unchecked else "clean: no contacts"
+        return f"usdksl: {verdict}{fixed_text if fixed else ''}; {checked}"
     first = float(table.time[0])
     found = (f"{table.count} contacting face pair{'s' if table.count != 1 else ''} in {pairs} mesh "
              f"pair{'s' if pairs != 1 else ''}, first at {clock.describe(first)}")
