@@ -19,6 +19,8 @@ OUTSIDE_TIME_RANGE = "usdksl:OutsideTimeRange"
 SCOPED_OUT = "usdksl:ScopedOut"
 #: A solid gprim that is not a UsdGeom.Mesh (Cube, Sphere, NurbsPatch...): usdksl checks meshes only.
 UNMESHED_SOLID = "usdksl:UnmeshedSolid"
+#: Curves, points or a volume: geometry, but not a surface a contact is defined on (scoped out, no warning).
+NOT_A_SURFACE = "usdksl:NotASurface"
 #: A PointInstancer inside a prototype: its instances are not expanded.
 NESTED_INSTANCER = "usdksl:NestedInstancer"
 #: A mesh with no points, no faces or only degenerate faces at every sample.

@@ -4,13 +4,13 @@ checked (docs/contracts.md, Coverage), in CheckResult, the JSON report, -v and t
 import json
 
 from click.testing import CliRunner
-from pxr import Sdf, UsdGeom
+from pxr import Sdf, Usd, UsdGeom
 
 from builders import define_mesh, grid, new_stage
 from usdksl.checking.coverage import CHECKED, NOT_CHECKED, SCOPED
 from usdksl.checking.pipeline import CheckOptions, check_shot
 from usdksl.cli.main import main
-from usdksl.warning_kinds import EMPTY_SAMPLE, OUTSIDE_TIME_RANGE, SCOPED_OUT, UNMESHED_SOLID
+from usdksl.warning_kinds import EMPTY_SAMPLE, NOT_A_SURFACE, OUTSIDE_TIME_RANGE, SCOPED_OUT, UNMESHED_SOLID
 
 TIMES = [float(t) for t in range(1, 25)]
 
@@ -99,3 +99,18 @@ def test_a_time_range_in_which_nothing_moves_warns_and_checks_nothing(samples_di
     assert result.exit_code == 0, result.stderr
     assert "usdksl: warning: nothing moves over 36..60: no pair needs a check" in result.stderr
 
+
+
+def test_curves_and_points_are_scoped_out_as_not_surfaces(tmp_path):
+    shot = cloth_scene(tmp_path / "cloth.usda")
+    stage = Usd.Stage.Open(shot)
+    curves = UsdGeom.BasisCurves.Define(stage, "/World/Hair")
+    curves.CreatePointsAttr([(0, 0, 0), (0, 1, 0), (0, 2, 0), (0, 3, 0)])
+    curves.CreateCurveVertexCountsAttr([4])
+    UsdGeom.Points.Define(stage, "/World/Spray").CreatePointsAttr([(0, 0, 0)])
+    stage.GetRootLayer().Save()
+    result = check_shot(shot, CheckOptions(strict=True))
+    scoped = {entry.prim: entry for entry in result.coverage.entries if entry.kind == NOT_A_SURFACE}
+    assert set(scoped) == {"/World/Hair", "/World/Spray"}
+    assert all(entry.status == SCOPED for entry in scoped.values()) and result.coverage.complete
+    assert not [message for message in result.messages if message.level == "warning"]

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Sequence, Tuple
 
 from ..reading.scope import MESH_ABSENT, MESH_EXCLUDED_BY_PATTERN, Plan
-from ..warning_kinds import EMPTY_MESH, EMPTY_SAMPLE, OUTSIDE_TIME_RANGE, SCOPED_OUT
+from ..warning_kinds import EMPTY_MESH, EMPTY_SAMPLE, NOT_A_SURFACE, OUTSIDE_TIME_RANGE, SCOPED_OUT
 
 CHECKED = "checked"
 SCOPED = "scoped out"
@@ -106,7 +106,7 @@ def shot_coverage(segments: Sequence, plans: Sequence[Plan], plan: Plan, gaps: S
             if key not in seen:
                 seen.add(key)
                 # an empty mesh holds no surface: nothing is missed without it
-                status = SCOPED if item.kind == EMPTY_MESH else NOT_CHECKED
+                status = SCOPED if item.kind in (EMPTY_MESH, NOT_A_SURFACE) else NOT_CHECKED
                 entries.append(CoverageEntry(item.prim, status, item.reason, item.kind))
     for gap in gaps:
         start, end = max(gap.start, coverage.span[0]), min(gap.end, coverage.span[1])

@@ -34,7 +34,7 @@ from ..reports.formats import contacts_csv, json_report, mesh_pair_lines, summar
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import package_version
-from ..warning_kinds import BLOW_UP, CACHE_GLITCH, EMPTY_MESH, NOTHING_CHECKED, SPARSE_SKIN_KEYS
+from ..warning_kinds import BLOW_UP, CACHE_GLITCH, EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .collision import METHODS, default_threads, find_contacts
 from .coverage import Coverage, shot_coverage
 from .memory_budget import check_memory, memory_limit, parse_memory_size, scan_shot
@@ -357,7 +357,8 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
     # an empty mesh holds no surface a contact could be with: named, but nothing is missed without it
-    unchecked = [item for _, segment in segments for item in segment.unchecked if item.kind != EMPTY_MESH]
+    unchecked = [item for _, segment in segments for item in segment.unchecked
+                 if item.kind not in (EMPTY_MESH, NOT_A_SURFACE)]
     if options.strict and unchecked:
         raise UsdkslInputError(f"{unchecked[0].reason} (--strict)", file=name, prim=unchecked[0].prim)
     scope = ScopeOptions(self_check=options.self_check, inter_check=options.inter_check, include=(), exclude=(),

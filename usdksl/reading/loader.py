@@ -35,11 +35,11 @@ import numpy as np
 from pxr import Gf, Tf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslGapError, UsdkslInputError, UsdkslUsageError
-from ..warning_kinds import EMPTY_MESH, UNMESHED_SOLID, UNRESOLVED_ASSET
+from ..warning_kinds import EMPTY_MESH, NOT_A_SURFACE, UNMESHED_SOLID, UNRESOLVED_ASSET
 from ..unmasked import distinct_sorted
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
-from .meshes import (DEFORMING, RIGID, STATIC, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
-                     unmeshed_solid_kind, _window, load_mesh,  # noqa: F401
+from .meshes import (DEFORMING, RIGID, STATIC, NOT_SURFACES, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
+                     unmeshed_solid_kind, not_surface_kind, _window, load_mesh,  # noqa: F401
                      mesh_sample_times, topology_segments)
 
 IncludeFilter = Union[None, Callable[[str], bool], str, Sequence[str]]
@@ -198,7 +198,9 @@ def unmeshed_solids(stage: Usd.Stage, include: IncludeFilter = None,
     """One UncheckedGeometry per kind of solid non-mesh gprim (:func:`usdksl.reading.meshes.unmeshed_solid_kind`)
     that is visible, not a guide (left out as for meshes) and not below a PointInstancer, plus
     ``in_prototypes`` ((kind, path) found in prototypes with instances): geometry a contact could be
-    with that usdksl reads past, with its first prim and how many there are."""
+    with that usdksl reads past, with its first prim and how many there are. Curves, points and volumes
+    (:data:`usdksl.reading.meshes.NOT_SURFACES`) come as one item per kind too, with the kind NOT_A_SURFACE:
+    geometry, but not a surface a contact is defined on."""
     wanted = _include_predicate(include)
     found: Dict[str, List[str]] = {}
     prims = iter(Usd.PrimRange.Stage(stage, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
@@ -206,15 +208,23 @@ def unmeshed_solids(stage: Usd.Stage, include: IncludeFilter = None,
         if prim.IsA(UsdGeom.PointInstancer):
             prims.PruneChildren()
             continue
-        kind = unmeshed_solid_kind(prim)
+        if not prim.IsA(UsdGeom.Boundable) or prim.IsA(UsdGeom.Mesh):
+            continue
+        kind = unmeshed_solid_kind(prim) or not_surface_kind(prim)
         if kind and wanted(str(prim.GetPath())) and rendered(prim):
             found.setdefault(kind, []).append(str(prim.GetPath()))
     for kind, path in in_prototypes:
         found.setdefault(kind, []).append(path)
-    return [UncheckedGeometry(prim=paths[0], reason=(
-                f"{len(paths)} UsdGeom.{kind} prim{'s' if len(paths) > 1 else ''} (first {paths[0]}) not "
-                f"checked: usdksl checks UsdGeom.Mesh surfaces only; export colliders as meshes"), kind=UNMESHED_SOLID)
-            for kind, paths in found.items()]
+    items = []
+    for kind, paths in found.items():
+        prims_named = f"{len(paths)} UsdGeom.{kind} prim{'s' if len(paths) > 1 else ''} (first {paths[0]})"
+        if kind in NOT_SURFACES:
+            items.append(UncheckedGeometry(prim=paths[0], kind=NOT_A_SURFACE, reason=(
+                f"{prims_named}: not a surface; usdksl checks surfaces (UsdGeom.Mesh) only")))
+        else:
+            items.append(UncheckedGeometry(prim=paths[0], kind=UNMESHED_SOLID, reason=(
+                f"{prims_named} not checked: usdksl checks UsdGeom.Mesh surfaces only; export colliders as meshes")))
+    return items
 
 
 # --------------------------------------------------------------------------- whole shot
@@ -348,7 +358,8 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
                                                      skinned, unchecked, in_prototypes)
         for item in unmeshed_solids(stage, include, in_prototypes):
             unchecked.append(item)
-            warnings.append(f"{file}: {item.reason}")
+            if item.kind != NOT_A_SURFACE:
+                warnings.append(f"{file}: {item.reason}")
     except Tf.ErrorException as error:
         raise UsdkslInputError(f"cannot read the stage: {_pxr_error_text(error)}", file=file) from None
     if not sources:

@@ -69,6 +69,21 @@ UNMESHED_SOLIDS = ("Capsule", "Capsule_1", "Cone", "Cube", "Cylinder", "Cylinder
                    "NurbsPatch")
 
 
+#: Gprims that hold geometry but no surface a contact is defined on (hair, particles, volumes): named in the
+#: coverage account as scoped out, never warned about.
+NOT_SURFACES = ("BasisCurves", "NurbsCurves", "HermiteCurves", "Points", "Volume")
+
+
+def not_surface_kind(prim: Usd.Prim) -> Optional[str]:
+    """The schema name (one of NOT_SURFACES) of a curves, points or volume prim, else None."""
+    for name in NOT_SURFACES:
+        # by its registered name: UsdVol is not imported for a check (its import costs start-up time)
+        schema = Usd.SchemaRegistry.GetTypeFromSchemaTypeName(name)
+        if not schema.isUnknown and prim.IsA(schema):
+            return name
+    return None
+
+
 def unmeshed_solid_kind(prim: Usd.Prim) -> Optional[str]:
     """The schema name (one of UNMESHED_SOLIDS) of a solid gprim that is not a mesh, else None."""
     for name in UNMESHED_SOLIDS:
