@@ -47,9 +47,9 @@ NO_LIMIT = "off"
 #: rounded up so that every measured shot lies between 1x and 2x. Discrete and brute hold what swept holds.
 #: On a 100k-face tablecloth (benchmarks/scale.py) KSL rose by 2,440 B per triangle with the vertex
 #: samples at 117 B: the front grows a little faster than the cloth, and 2,600 B stays above it.
-#: The fixed part was 8 MiB until session 17, when the same script fitted 5.0 MiB (KSL) and 3.7 MiB (swept):
-#: a small shot's estimate then stood at 1.67x to 1.98x of its peak, and one noisy measurement of a
-#: 2k-face shot crossed 2x. At 6 MiB every shot of that run lies between 1.08x and 1.89x.
+#: The same script fits the fixed part at 5.0 MiB (KSL) and 3.7 MiB (swept); at 8 MiB a small shot's estimate
+#: stood at 1.67x to 1.98x of its peak and one noisy measurement of a 2k-face shot crossed 2x, at 6 MiB every
+#: shot lies between 1.08x and 1.89x.
 BYTES_PER_VERTEX_SAMPLE = {"ksl": 250, "swept": 120, "discrete": 120, "brute": 120}
 BYTES_PER_TRIANGLE = {"ksl": 2600, "swept": 450, "discrete": 450, "brute": 450}
 FIXED_BYTES = 6 * 2 ** 20
