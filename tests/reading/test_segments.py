@@ -115,3 +115,22 @@ def test_a_mesh_empty_at_every_sample_is_an_empty_mesh(tmp_path):
     assert result.exit_code == 1, result.stderr
     assert {(a, b) for a, _, b, _, _ in contacts(tmp_path / "out", "bad")} == {("/World/Other", "/World/OtherFloor")}
     assert "/World/Cloth: time 1: empty mesh" in result.stderr
+
+
+def test_a_prototype_with_an_empty_sample_is_refused_not_dropped(tmp_path):
+    from pxr import Usd, UsdGeom
+
+    from builders import falling_instancer
+
+    path = tmp_path / "scatter.usda"
+    falling_instancer(path)
+    stage = Usd.Stage.Open(str(path))
+    points = UsdGeom.Mesh(stage.GetPrimAtPath("/World/scatter/Prototypes/box")).GetPointsAttr()
+    value = points.Get()
+    for time, sample in ((1.0, Vt.Vec3fArray()), (2.0, value), (11.0, value)):
+        points.Set(sample, time)
+    stage.GetRootLayer().Save()
+    result = run_cli("check", path, "--out", tmp_path / "out")
+    assert result.exit_code == 2, result.stderr
+    assert "/World/scatter/Prototypes/box: time 1: points are empty or blocked here" in result.stderr
+    assert "cannot be checked around them" in result.stderr and not (tmp_path / "out").exists()

@@ -578,6 +578,10 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
                       time_range)
     gaps = [gap for path, found in stretches.items() for gap in mesh_gaps(path, found)
             if gap.covers(full) or (full[0] == full[1] and gap.start < full[0] < gap.end)]
+    if not gaps and isinstance(first_error, UsdkslGapError):   # a PointInstancer's prototype mesh
+        raise UsdkslInputError(f"{first_error.message}: the instances of a prototype with empty or blocked samples "
+                               f"cannot be checked around them", file=first_error.file, prim=first_error.prim,
+                               time=first_error.time) from None
     if not gaps:
         raise first_error
     gaps.sort(key=lambda gap: (max(gap.start, full[0]), gap.path))

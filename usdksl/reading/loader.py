@@ -310,7 +310,9 @@ def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: In
         try:
             loaded = source.load(times, file, matrices)
         except UsdkslEmptyMeshError as error:
-            if not error.degenerate and _shows_surface_within(getattr(source, "prim", None), times):
+            # an instancer's prototype mesh is source.mesh.prim; its gaps are not cut around (exit 2 below)
+            prim = getattr(source, "prim", None) or getattr(getattr(source, "mesh", None), "prim", None)
+            if not error.degenerate and _shows_surface_within(prim, times):
                 raise UsdkslGapError(f"points are empty or blocked here ({error.message})", file=file,
                                      prim=error.prim, time=error.time) from None
             empty.append(error)
