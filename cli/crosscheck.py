@@ -21,14 +21,17 @@ from .options import parse_time_range
               help="Folder for <stem>.crosscheck.csv (default: the shot's folder).")
 @click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range,
               metavar="A B", help="Only the samples inside [A, B] (USD time codes), ends included.")
-def crosscheck(shot, frames, contacts_file, out_dir, time_range):
+@click.option("--allow-missing-assets", is_flag=True,
+              help="Read what the stage composes even when a referenced, payloaded, sublayered or clip asset does "
+                   "not resolve (each is named). Without it such a stage is exit 2.")
+def crosscheck(shot, frames, contacts_file, out_dir, time_range, allow_missing_assets):
     """Intersect static frames of SHOT with Embree and check every intersecting face pair against the
     continuous result: its first contact must come at or before the frame.
 
     Exit 0 clean, 1 contacts found (and consistent), 2 bad input, 3 the cross-check disagrees.
     """
     try:
-        loaded = load_shot(shot, time_range=time_range)
+        loaded = load_shot(shot, time_range=time_range, allow_missing_assets=allow_missing_assets)
         result = crosscheck_shot(loaded, frames=frames, contacts=contacts_file, time_range=time_range)
         target = write_crosscheck_csv(result, crosscheck_csv_path(shot, out_dir))
     except UsdkslInputError as error:

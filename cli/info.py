@@ -19,10 +19,13 @@ def _time_span(times) -> str:
 @click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
 @click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range,
               metavar="A B", help="Only the samples inside [A, B] (USD time codes), ends included.")
-def info(shot, time_range):
+@click.option("--allow-missing-assets", is_flag=True,
+              help="Read what the stage composes even when a referenced, payloaded, sublayered or clip asset does "
+                   "not resolve (each is named). Without it such a stage is exit 2.")
+def info(shot, time_range, allow_missing_assets):
     """Print each mesh of SHOT: faces, vertices, triangles, samples, time range, classification."""
     try:
-        loaded = load_shot(shot, time_range=time_range)
+        loaded = load_shot(shot, time_range=time_range, allow_missing_assets=allow_missing_assets)
     except UsdkslInputError as error:
         click.echo(f"usdksl: error: {error}", err=True)
         sys.exit(UsdkslInputError.exit_code)

@@ -177,3 +177,15 @@ def test_every_kind_is_listed_once_and_the_error_counts_the_rest(tmp_path):
         (SUBLAYER, "sublayer @./e.usda@ does not resolve", str(tmp_path / "shot.usda")),
         (CLIP, "value clip @./d.2.usda@ does not resolve", "/World/D")]
     assert refusal(found) == f"reference @./a.usda@ does not resolve, and 4 more unresolved assets; {REFUSED}"
+
+
+def test_info_and_crosscheck_refuse_a_missing_asset_unless_allowed(tmp_path, cloth_and_body):
+    shot, body = cloth_and_body("reference")
+    rename(body, "body_v2.usda")
+    for command in (["info", shot], ["crosscheck", shot, "--out", tmp_path / "out"]):
+        refused = run_cli(*command)
+        assert refused.exit_code == 2 and "reference @./body.usda@ does not resolve" in refused.stderr
+        allowed = run_cli(*command, "--allow-missing-assets")
+        assert allowed.exit_code == 0, allowed.stderr
+        assert f"{shot}: /World/Body: reference @./body.usda@ does not resolve" in allowed.stderr
+    assert "/World/Cloth" in run_cli("info", shot, "--allow-missing-assets").stdout
