@@ -17,18 +17,21 @@ import sys
 
 import click
 
-from ..ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
-from ..checking.collision import METHODS
-from ..baseline import baseline_for_shot
-from ..checking.pipeline import (NORMAL, QUIET, VERBOSE, WARNING, CheckOptions, Message, check_shot,
-                                 output_targets)
-from ..checking.progress import Progress, progress_enabled
-from ..errors import UsdkslInputError, UsdkslUsageError
-from ..exit_codes import INPUT_ERROR
-from ..reports.output import write_files
-from ..reports.override import shot_stem
-from ..scale.shot_arguments import expand_shots
-from ..stopping import Stopped, deferred_stops, stop_on_signals
+from usdksl.baseline import baseline_for_shot
+from usdksl.ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
+from usdksl.checking.collision import METHODS
+from usdksl.errors import UsdkslInputError, UsdkslUsageError
+from usdksl.exit_codes import INPUT_ERROR
+from usdksl.pipeline.check import check_shot
+from usdksl.pipeline.files import output_targets
+from usdksl.pipeline.messages import NORMAL, QUIET, VERBOSE, WARNING, Message
+from usdksl.pipeline.options import CheckOptions
+from usdksl.pipeline.progress import Progress, progress_enabled
+from usdksl.reports.output import write_files
+from usdksl.reports.override import shot_stem
+from usdksl.scale.shot_arguments import expand_shots
+from usdksl.stopping import Stopped, deferred_stops, stop_on_signals
+
 from .options import parse_time_range
 
 
@@ -157,7 +160,7 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
 
 def _write_stopped_junit(junit_path, shots, finished, message, exit_code):
     """The --junit report of a stopped run: the finished shots as checked, an <error> for every other."""
-    from ..scale.batch import ShotOutcome, junit_for_outcomes
+    from usdksl.scale.batch import ShotOutcome, junit_for_outcomes
 
     done = {outcome.name: outcome for outcome in finished}
     outcomes = [done.get(shot) or ShotOutcome(name=shot, exit_code=exit_code, error=message) for shot in shots]
@@ -171,7 +174,7 @@ def _fail(shots, message, junit_path, exit_code=INPUT_ERROR, kind="error"):
     """Say why the check could not be done, write the --junit report of it (an <error> per shot) and exit."""
     _echo(f"usdksl: {kind}: {message}")
     if junit_path and junit_path != "-":
-        from ..reports.junit import junit_error_report   # xml.etree: only for a report
+        from usdksl.reports.junit import junit_error_report   # xml.etree: only for a report
 
         try:
             write_files({junit_path: junit_error_report(shots, message)})
@@ -224,8 +227,8 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
                 verbosity, plot_path, finished):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
     ``finished`` collects the outcomes shown (their files are written)."""
-    from ..scale.batch import junit_for_outcomes, make_jobs, run_batch, run_here, total_line, worst_exit_code
-    from ..scale.batch_progress import BatchProgress
+    from usdksl.scale.batch import junit_for_outcomes, make_jobs, run_batch, run_here, total_line, worst_exit_code
+    from usdksl.scale.batch_progress import BatchProgress
 
     if jobs is not None and scheduler is not None:
         raise click.UsageError("give --jobs or --scheduler, not both")
@@ -235,7 +238,7 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
         if jobs is None and scheduler is None:
             runner = run_here
         else:
-            from ..scale.dask_runner import run_on_dask
+            from usdksl.scale.dask_runner import run_on_dask
             runner = functools.partial(run_on_dask, workers=jobs, scheduler=scheduler)
         bar = BatchProgress(len(entries), enabled=verbosity > QUIET and progress_enabled(sys.stderr))
 

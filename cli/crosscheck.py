@@ -4,9 +4,10 @@ import sys
 
 import click
 
-from ..crosscheck.shot import crosscheck_csv_path, crosscheck_shot, write_crosscheck_csv
-from ..errors import UsdkslInputError
-from ..reading.loader import load_shot
+from usdksl.crosscheck.shot import crosscheck_csv_path, crosscheck_shot, write_crosscheck_csv
+from usdksl.errors import UsdkslInputError
+from usdksl.reading.loader import load_shot
+
 from .options import parse_time_range
 
 

@@ -12,7 +12,8 @@ back until they are done, and any stop outside a command's own handling ends in 
 import os
 import sys
 
-from ..stopping import Stopped, deferred_stops, stop_on_signals
+from usdksl.stopping import Stopped, deferred_stops, stop_on_signals
+
 from .import_pause import collector_paused
 from .quick_exit import exit_quickly
 
@@ -36,7 +37,7 @@ def _run() -> None:
     try:
         with stop_on_signals():
             with deferred_stops(), collector_paused():
-                from .._openusd import require_openusd
+                from usdksl._openusd import require_openusd
 
                 require_openusd()   # without pxr: one line, exit 2
                 from .main import main as command_line

@@ -4,8 +4,9 @@ import sys
 
 import click
 
-from ..errors import UsdkslInputError
-from ..reading.loader import load_shot
+from usdksl.errors import UsdkslInputError
+from usdksl.reading.loader import load_shot
+
 from .options import parse_time_range
 
 

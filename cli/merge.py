@@ -4,11 +4,12 @@ import sys
 
 import click
 
-from ..baseline import read_baseline
-from ..checking.pipeline import output_targets
-from ..errors import UsdkslInputError
-from ..reports.output import write_files
-from ..scale.merge import merge_chunks
+from usdksl.baseline import read_baseline
+from usdksl.errors import UsdkslInputError
+from usdksl.pipeline.files import output_targets
+from usdksl.reports.output import write_files
+from usdksl.scale.merge import merge_chunks
+
 from .options import parse_time_range
 
 

@@ -4,10 +4,14 @@ The native core lives in the private ``usdksl._native`` module; the names a
 user needs are re-exported here. The sub-packages, by topic:
 
 ``usdksl.reading``     USD in: the stage as world-space arrays, and which mesh pairs are checked
-``usdksl.checking``    first contacts (the native core) and the whole check of one shot
+``usdksl.checking``    first contacts: the native core's face (and the shot played backwards, for last contacts)
 ``usdksl.reports``     contacts.csv, summary.csv, JSON, JUnit and the override layer, written atomically
 ``usdksl.crosscheck``  static frames intersected with Embree, held against the continuous result
+``usdksl.pipeline``    the whole check of one shot: load, plan, find first contacts, render every report
 ``usdksl.scale``       many shots, on one process or a Dask cluster, and farm chunks merged
+
+They stand on floors (usdksl/README.md): a module imports only its own floor and the floors below it, which
+tests/test_import_graph.py enforces.
 
 The names are imported on first use (PEP 562), so that ``import usdksl.stopping`` (which the command
 imports first, to hold a Ctrl-C back while numpy and USD load) costs nothing.
@@ -29,9 +33,9 @@ _EXPORTS = {
     "errors": "usdksl.errors",
     "CollisionResult": "usdksl.checking.collision",
     "find_contacts": "usdksl.checking.collision",
-    "CheckOptions": "usdksl.checking.pipeline",
-    "CheckResult": "usdksl.checking.pipeline",
-    "check_shot": "usdksl.checking.pipeline",
+    "CheckOptions": "usdksl.pipeline.options",
+    "CheckResult": "usdksl.pipeline.result",
+    "check_shot": "usdksl.pipeline.check",
     "ContactTable": "usdksl.contacts",
     "UsdkslInputError": "usdksl.errors",
     "UsdkslUsageError": "usdksl.errors",
@@ -67,8 +71,10 @@ if TYPE_CHECKING:   # what the names are, for type checkers and readers
     from .version import __version__  # noqa: F401
     from . import _native, ccd, errors  # noqa: F401
     from .checking.collision import CollisionResult, find_contacts  # noqa: F401
-    from .checking.pipeline import CheckOptions, CheckResult, check_shot  # noqa: F401
     from .contacts import ContactTable  # noqa: F401
     from .errors import UsdkslInputError, UsdkslUsageError  # noqa: F401
+    from .pipeline.check import check_shot  # noqa: F401
+    from .pipeline.options import CheckOptions  # noqa: F401
+    from .pipeline.result import CheckResult  # noqa: F401
     from .reading.loader import MeshData, Shot, load_shot  # noqa: F401
     from .reports.output import write_files  # noqa: F401

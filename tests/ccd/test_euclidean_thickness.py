@@ -1,4 +1,4 @@
-"""Above thickness 0, "within the thickness" is Euclidean distance (issue 14, session 19).
+"""Above thickness 0, "within the thickness" is Euclidean distance (docs/contracts.md, Contacts).
 
 The root finder bounds F per world axis, so its raw acceptance is the cube |F|inf <= T; a pair
 diagonal to the axes can fit that cube while up to sqrt(3) T apart. These queries have closed-form

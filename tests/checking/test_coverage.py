@@ -7,9 +7,9 @@ from click.testing import CliRunner
 from pxr import Sdf, Usd, UsdGeom
 
 from builders import define_mesh, grid, new_stage
-from usdksl.checking.coverage import CHECKED, NOT_CHECKED, SCOPED
-from usdksl.checking.pipeline import CheckOptions, check_shot
 from usdksl.cli.main import main
+from usdksl.pipeline import CheckOptions, check_shot
+from usdksl.pipeline.coverage import CHECKED, NOT_CHECKED, SCOPED
 from usdksl.warning_kinds import EMPTY_SAMPLE, NOT_A_SURFACE, OUTSIDE_TIME_RANGE, SCOPED_OUT, UNMESHED_SOLID
 
 TIMES = [float(t) for t in range(1, 25)]

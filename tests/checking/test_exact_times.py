@@ -1,4 +1,4 @@
-"""Reported first-contact times are exact on the raw samples (issue 14).
+"""Reported first-contact times are exact on the raw samples (docs/contracts.md, Contacts).
 
 The contract: a reported time is the first instant at which two faces come
 within the thickness on the piecewise-linear trajectories through the

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from usdksl.checking.pipeline import CheckOptions, check_shot
 from usdksl.cli.main import main
 from usdksl.crosscheck.shot import _FaceNumbering, intersecting_face_pairs
+from usdksl.pipeline import CheckOptions, check_shot
 from usdksl.reading.loader import load_shot
 
 from builders import QUAD_POINTS, add_mesh, new_stage

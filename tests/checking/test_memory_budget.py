@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from usdksl.checking.memory_budget import (
+from usdksl.pipeline.memory_budget import (
     MEMORY_LIMIT_VARIABLE, ShotSize, _cgroup_room, _meminfo_available, check_memory, estimated_bytes,
     memory_limit, parse_memory_size, scan_shot)
 from usdksl.cli.main import main
@@ -16,7 +16,7 @@ from usdksl.errors import UsdkslUsageError
 from usdksl.reading.loader import load_shot
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-#: How far the estimate may be from the measured peak (the issue's bound).
+#: How far the estimate may be from the measured peak (the factor docs/contracts.md, Memory, promises).
 WITHIN = 2.0
 
 # The peak is the process's own high-water mark (VmHWM). ru_maxrss would do in a shell, but Linux carries
@@ -24,8 +24,8 @@ WITHIN = 2.0
 MEASURE = """
 import json, resource, sys
 from usdksl import _native
-from usdksl.checking.memory_budget import estimated_bytes, scan_shot
-from usdksl.checking.pipeline import CheckOptions, check_shot
+from usdksl.pipeline import CheckOptions, check_shot
+from usdksl.pipeline.memory_budget import estimated_bytes, scan_shot
 def status(field):
     with open("/proc/self/status") as lines:
         return next(int(line.split()[1]) * 1024 for line in lines if line.startswith(field))

@@ -234,7 +234,7 @@ def test_samples_of_other_meshes_do_not_change_a_pair_s_answer():
     beside = {method: contacts_by_pair(find_contacts([segment, flying, far], [(0, 1), (2, 2)], method=method,
                                                      tolerance=TOLERANCE))
               for method in ("brute", "ksl", "swept")}
-    # Before the root finder decided near-rounding boxes on exact corner values (issue 14's near-miss fix),
-    # every method but the old swept reported a contact at 11.0 here that the narrow phase could not rule
-    # out; now all of them rule it out exactly. What must hold either way: the same answer alone and beside.
+    # The near miss at 11.0 lies below the rounding bound of its coordinates: only the root finder's exact
+    # corner values rule it out (a rounding bound alone would report a contact there). What must hold
+    # whichever way it is decided: the same answer alone and beside.
     assert all(answer == alone["brute"] for answer in list(alone.values()) + list(beside.values())), (alone, beside)

@@ -1,4 +1,4 @@
-"""A near miss smaller than the root finder's rounding-error bound is not a contact (issue 14).
+"""A near miss smaller than the root finder's rounding-error bound is not a contact (docs/contracts.md, Contacts).
 
 The contract: a pair is reported only when its raw-sample trajectories come within the thickness. The
 root finder bounds the rounding of its corner values by a fixed multiple of the largest coordinate of the

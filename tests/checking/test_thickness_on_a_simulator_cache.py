@@ -1,7 +1,7 @@
 """At a thickness above 0 on the third-party Newton twist, reported contacts are within it by Euclidean
-distance, computed independently with ipctk (issue 14, session 19).
+distance, computed independently with ipctk (docs/contracts.md, Contacts).
 
-The per-axis measure the narrow phase used before put this shot's first contact at 0.01 on frame 31.7,
+A per-axis measure (Tight-Inclusion's box) would put this shot's first contact at 0.01 on frame 31.7,
 33 frames before the sheet comes within 0.01 of itself by any frame's distance.
 """
 

@@ -115,8 +115,8 @@ def test_random_animations_within_a_thickness_give_the_same_contacts_on_any_thre
 
 def test_a_simulator_cache_within_a_thickness_gives_the_same_contacts_on_any_thread_count(newton_twist_within_1cm):
     """The third-party twist at thickness 0.01: its cloth rests within the thickness of itself from
-    frame to frame, so window begins fall on pairs that just came within it (found in session 19:
-    their feature differed at a window's begin)."""
+    frame to frame, so window begins fall on pairs that just came within it: their feature must not
+    depend on where a window begins."""
     twist = newton_twist_within_1cm
     assert len(twist.result) > 10000
     assert_identical({1: twist.result, 2: find_contacts([twist.mesh], [(0, 0)], threads=2, thickness=twist.thickness)})

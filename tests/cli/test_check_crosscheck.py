@@ -6,7 +6,7 @@ import numpy as np
 from click.testing import CliRunner
 
 from usdksl import exit_codes
-from usdksl.checking import pipeline
+from usdksl.pipeline import check as pipeline
 from usdksl.cli.main import main
 
 

@@ -13,7 +13,7 @@ from usdksl.cli.main import main as command_line
 
 COLLECTOR_DURING_THE_CHECK = """
 import gc, json, sys
-import usdksl.checking.pipeline as pipeline
+import usdksl.pipeline.check as pipeline
 seen = {}
 original = pipeline.load_and_plan
 def watched(*args, **kwargs):

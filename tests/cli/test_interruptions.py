@@ -18,7 +18,7 @@ import psutil
 import pytest
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-#: Seconds from the signal to the process's end that the issue allows ("a second or two").
+#: Seconds from the signal to the process's end that docs/contracts.md, Stopping, allows ("a second or two").
 STOP_SECONDS = 3.0
 #: Seconds the check runs before the signal.
 RUNNING_SECONDS = 1.0

@@ -29,11 +29,11 @@ from pathlib import Path
 from typing import Iterable, List, Optional, Sequence
 
 #: Seconds a case may take. The samples check in under a second of CPU (a few seconds of wall time on a
-#: loaded two-core machine); the issue saw hangs past 120 s.
+#: loaded two-core machine); a hang runs far past this.
 CASE_SECONDS = 30.0
 #: Modules the fork server imports once for every case (everything a check of the samples imports).
 PRELOAD = ["numpy", "numpy.ma", "pxr.Usd", "pxr.UsdGeom", "pxr.UsdSkel", "pxr.UsdPhysics", "pxr.UsdShade",
-           "usdksl._native", "usdksl.cli.entry", "usdksl.cli.main", "usdksl.checking.pipeline",
+           "usdksl._native", "usdksl.cli.entry", "usdksl.cli.main", "usdksl.pipeline.check",
            "usdksl.reports.override"]
 OUTPUT_SUFFIXES = (".contacts.csv", ".summary.csv", ".usdksl.usda")
 CONTACTS_HEADER = ["time", "prim_a", "face_a", "prim_b", "face_b", "kind"]
@@ -111,7 +111,7 @@ class Outcome:
 
 
 #: What multiprocessing reports when the fork server lost a child's exit status (it does so, rarely, on a
-#: loaded machine: CPython issue 140867); the command itself never exits with it.
+#: loaded machine: python/cpython#140867); the command itself never exits with it.
 STATUS_LOST = 255
 #: Runs of one case after a lost status, before the lost status is reported as the outcome.
 ATTEMPTS = 3

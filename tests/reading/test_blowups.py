@@ -5,7 +5,7 @@ import pytest
 from pxr import UsdGeom, Vt
 
 from builders import box, define_mesh, grid
-from usdksl.checking.pipeline import check_shot
+from usdksl.pipeline import check_shot
 from usdksl.reading import blowups
 from usdksl.reading.blowups import BLOWUP_SIZE_FACTOR, describe_blowups, find_blowups, shot_blowups
 from usdksl.warning_kinds import BLOW_UP, CACHE_GLITCH

@@ -6,8 +6,8 @@ pxr's own warnings about them are not printed."""
 import pytest
 from pxr import Sdf, Usd, UsdGeom
 
-from usdksl.checking.memory_budget import scan_shot
 from usdksl.errors import UsdkslInputError
+from usdksl.pipeline.memory_budget import scan_shot
 from usdksl.reading.composition import CLIP, PAYLOAD, REFERENCE, SUBLAYER, refusal, unresolved_assets
 from usdksl.reading.loader import load_shot, open_stage, shot_sample_times
 from usdksl.warning_kinds import UNRESOLVED_ASSET

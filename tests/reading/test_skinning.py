@@ -62,7 +62,8 @@ def test_loaded_points_equal_baked_points(arm):
 
 
 def test_unbaked_stage_was_called_static_before(arm):
-    """Without UsdSkel the arm's authored points never change: the bug of issue 15 would say static."""
+    """Without UsdSkel the arm's authored points never change: a reader that skips UsdSkel would call it
+    static."""
     path, _, names = arm
     stage = Usd.Stage.Open(str(path))
     points = UsdGeom.Mesh(stage.GetPrimAtPath(names["arm"])).GetPointsAttr()

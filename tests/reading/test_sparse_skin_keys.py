@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from pxr import Usd, UsdSkel
 
-from usdksl.checking.memory_budget import scan_shot
+from usdksl.pipeline.memory_budget import scan_shot
 from usdksl.reading.loader import load_shot, shot_sample_times
 from usdksl.reading.skinning import find_skinned_meshes, playback_frames
 

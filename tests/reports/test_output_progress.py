@@ -6,8 +6,8 @@ import stat
 import pytest
 
 from usdksl.errors import UsdkslUsageError
+from usdksl.pipeline.progress import Progress, progress_enabled
 from usdksl.reports.output import OutputTransaction, check_writable_directory
-from usdksl.checking.progress import Progress, progress_enabled
 
 from builders import snapshot
 
@@ -89,7 +89,7 @@ def test_progress_draws_only_on_a_tty_outside_ci():
 def test_a_check_draws_a_shown_bar_and_leaves_an_undrawn_one_alone(samples_dir):
     """check_shot hands the core's progress to a bar that is drawn (and to any other progress object), not
     to a usdksl Progress that is not drawn: its calls would show nothing and cost the core's threads the GIL."""
-    from usdksl.checking.pipeline import check_shot
+    from usdksl.pipeline import check_shot
 
     made = {}
 

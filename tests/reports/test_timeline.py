@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from usdksl.checking.pipeline import CheckOptions, check_shot
 from usdksl.cli.main import main
+from usdksl.pipeline import CheckOptions, check_shot
 from usdksl.reports.timeline import (DOTS_PER_INCH, FIGURE_WIDTH_INCHES, INSTALL_HINT, MARGIN_HEIGHT_INCHES,
                                      ROW_HEIGHT_INCHES, contact_spans, in_contact_counts, timeline_figure,
                                      timeline_rows)

@@ -14,7 +14,7 @@ from pxr import UsdGeom
 
 from builders import QUAD_POINTS, add_mesh, new_stage
 from usdksl.checking.collision import default_threads
-from usdksl.checking.pipeline import CheckOptions
+from usdksl.pipeline import CheckOptions
 from usdksl.scale.batch import make_jobs, run_job
 from usdksl.scale.batch_progress import BatchProgress
 from usdksl.scale.dask_runner import run_on_dask

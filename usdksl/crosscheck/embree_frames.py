@@ -10,7 +10,7 @@ Rules, matching the continuous check:
 
 * primitive pairs that share a vertex are never tested: an edge that hits a triangle containing one of the
   edge's end points is ignored;
-* every candidate is confirmed in double precision (:mod:`usdksl.segment_crossing`): the edge must cross
+* every candidate is confirmed in double precision (:mod:`usdksl.crosscheck.segment_crossing`): the edge must cross
   the triangle's interior by a clear margin. Unconfirmed candidates are counted, never reported.
 
 Limits, by design one-sided (the cross-check may miss, it never raises a false alarm): a crossing within

@@ -1,13 +1,13 @@
 """Cross-check of a continuous result against static frames intersected with Embree.
 
 Users must be able to trust a result without trusting our CCD. At each checked time sample the frame's
-meshes are frozen and intersected with Embree (:mod:`usdksl.embree_frames`); every face pair found
-properly intersecting at frame ``f`` must have its first contact at or before ``f`` in the continuous
+meshes are frozen and intersected with Embree (:mod:`usdksl.crosscheck.embree_frames`); every face pair
+found properly intersecting at frame ``f`` must have its first contact at or before ``f`` in the continuous
 result. A face pair that intersects with no contact, or only a later one, is a disagreement.
 
 The frame test is one-sided by design: it reports only crossings that double precision confirms with a
-clear margin (see :mod:`usdksl.segment_crossing`), so it never raises a false alarm; touching and grazing
-contacts are left to the continuous check.
+clear margin (see :mod:`usdksl.crosscheck.segment_crossing`), so it never raises a false alarm; touching
+and grazing contacts are left to the continuous check.
 
 Face pairs follow the contacts.csv conventions: inter rows have ``prim_a < prim_b``, self rows
 ``face_a < face_b``; rows sort by time, prim_a, face_a, prim_b, face_b; times print with ``repr(float)``.
@@ -125,7 +125,7 @@ def default_mesh_pairs(meshes) -> List[Tuple[int, int]]:
 
 
 def scoped_mesh_pairs(shot, time_range=None):
-    """The pairs ``usdksl check`` tests by default: the scene's scoping (:func:`usdksl.scope.plan_shot`:
+    """The pairs ``usdksl check`` tests by default: the scene's scoping (:func:`usdksl.reading.scope.plan_shot`:
     physics flags, filtered pairs, groups, purpose, visibility) when the shot has a stage, otherwise
     :func:`default_mesh_pairs`."""
     if getattr(shot, "stage", None) is None:
@@ -413,11 +413,11 @@ def compare_with_contacts(meshes, frames: np.ndarray, row_time: np.ndarray, row_
 
 def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=None,
                     **find_contacts_options) -> CrosscheckResult:
-    """Cross-check ``shot`` (a loaded :class:`usdksl.loader.Shot`) at static frames with Embree.
+    """Cross-check ``shot`` (a loaded :class:`usdksl.Shot`) at static frames with Embree.
 
     ``frames``: None (every sample of ``shot.times`` inside ``time_range``), a ``--frames`` string, or a
     sequence of time codes. ``contacts``: None runs the continuous check
-    (``usdksl.collision.find_contacts(shot.meshes, pairs, time_range=..., **find_contacts_options)``);
+    (``usdksl.find_contacts(shot.meshes, pairs, time_range=..., **find_contacts_options)``);
     otherwise a :class:`ContactList`, a FaceContacts-like object (arrays ``time, mesh_a, face_a, mesh_b,
     face_b`` with mesh indices into ``shot.meshes``) or a path to a contacts.csv. ``pairs``: mesh index
     pairs ((i, i) = self) the continuous check tests; None uses :func:`scoped_mesh_pairs` (what

@@ -135,7 +135,7 @@ def clock_settings(clock: StageClock) -> dict:
 def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_code: int, clock: StageClock,
                 version: str = "", baseline: Optional[dict] = None, known: Optional[np.ndarray] = None,
                 coverage: Optional[dict] = None, findings: Optional[list] = None) -> str:
-    """The --json document: shot, settings, clock, plan, coverage (usdksl.checking.coverage.Coverage.to_dict),
+    """The --json document: shot, settings, clock, plan, coverage (usdksl.pipeline.coverage.Coverage.to_dict),
     findings (warnings with their stable kind), summary rows, contacts, exit code; with a baseline its comparison
     (BaselineComparison.to_dict) and each contact's status."""
     document = {
@@ -177,7 +177,7 @@ def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds
                  clock: StageClock, known: Optional[np.ndarray] = None, fixed: int = 0, unchecked: str = "") -> str:
     """The final line printed after every run; with ``known`` (from a baseline) it says how many contacts
     are new and known, and ``fixed`` how many baseline entries no longer occur. ``unchecked``: what the
-    coverage account says went unchecked (usdksl.checking.coverage.Coverage.summary_phrase); a shot with
+    coverage account says went unchecked (usdksl.pipeline.coverage.Coverage.summary_phrase); a shot with
     no contacts is then not called clean."""
     pairs = len(table.summary())
     span = "" if time_range is None else f" over {time_range[0]:g}..{time_range[1]:g}"

@@ -39,7 +39,7 @@ open.
 Meshes inside instances are made visible to these opinions by authoring ``instanceable = false`` on
 their instances in this layer (the input keeps its instancing).
 
-PointInstancer instances (``/World/scatter[3]/box``, :mod:`usdksl.instancing`) are not prims, and all
+PointInstancer instances (``/World/scatter[3]/box``, :mod:`usdksl.reading.instancing`) are not prims, and all
 instances share their prototype's faces, so nothing is authored per instance mesh or per face. Their results
 go on the instancer prim instead:
 
@@ -166,7 +166,7 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
     ``checked_meshes``: indices into shot.meshes that took part in at least one checked pair.
     ``layer_path``: where the layer will live (only its directory matters, for the relative sublayer).
     ``span``: the checked range in time codes, where the colour samples start (default: the shot's samples).
-    ``segments``: for a shot checked in constant-topology stretches (usdksl.segments), a list of
+    ``segments``: for a shot checked in constant-topology stretches (usdksl.reading.segments), a list of
     ((start, end), segment Shot, segment ContactTable). A mesh whose topology differs between segments gets
     its per-face primvars as time samples per segment (one value per face of the topology in force);
     the mesh-level values cover all segments, and ``usdksl:contactFaceCount`` then adds up the touching

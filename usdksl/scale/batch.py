@@ -16,10 +16,13 @@ from pathlib import Path
 from typing import Callable, Dict, Iterable, List, Optional, Sequence
 
 from ..baseline import Baseline, baseline_for_shot
-from ..checking.pipeline import (WARNING, CheckOptions, CheckResult, Message, OutputTargets, check_shot,
-                                 output_targets)
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERROR
+from ..pipeline.check import check_shot
+from ..pipeline.files import OutputTargets, output_targets
+from ..pipeline.messages import WARNING, Message
+from ..pipeline.options import CheckOptions
+from ..pipeline.result import CheckResult
 from ..reports.junit import error_suite, junit_document, shot_suite
 from ..reports.output import check_writable_directory, write_files
 from ..reports.override import shot_stem

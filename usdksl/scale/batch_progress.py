@@ -3,7 +3,7 @@
 ``usdksl check S1 S2 ...`` (and ``--jobs``/``--scheduler``) draws a single tqdm bar on stderr counting the
 pieces of work done: a shot checked whole is one piece, a long shot split into N time windows on Dask
 (usdksl.scale.windows) is N pieces, one as each window's task ends. The bar starts at one piece per shot
-and grows when a shot is split. Like the one-shot bar (usdksl.checking.progress) it is drawn only on a
+and grows when a shot is split. Like the one-shot bar (usdksl.pipeline.progress) it is drawn only on a
 terminal, never in CI (``CI`` set) or in a pipe, and never with ``-q``.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 import sys
 from typing import Optional, TextIO
 
-from ..checking.progress import progress_enabled
+from ..pipeline.progress import progress_enabled
 
 #: What the bar counts.
 PIECE_UNIT = "piece"

@@ -22,8 +22,8 @@ from dataclasses import replace
 from typing import Iterator, Optional, Sequence
 
 from ..checking.collision import default_threads
-from ..checking.pipeline import CheckOptions
 from ..errors import UsdkslUsageError
+from ..pipeline.options import CheckOptions
 from ..stopping import Stopped
 from .batch import ShotJob, ShotOutcome, run_job
 from .batch_progress import BatchProgress

@@ -27,10 +27,14 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..baseline import Baseline
-from ..checking.pipeline import (CheckOptions, CheckResult, Message, OutputTargets, TimeRange, checked_span,
-                                 conclude, load_and_plan, message_collector, report_blowups)
 from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
+from ..pipeline.check import conclude, load_and_plan
+from ..pipeline.files import OutputTargets
+from ..pipeline.loading import checked_span, report_blowups
+from ..pipeline.messages import Message, message_collector
+from ..pipeline.options import CheckOptions, TimeRange
+from ..pipeline.result import CheckResult
 from ..reading.loader import shot_sample_times
 from ..reading.meshes import STATIC
 from ..reading.scope import include_predicate
@@ -254,7 +258,7 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
 def merge_parts(shot: str, name: str, options: CheckOptions, targets: OutputTargets, parts: Sequence,
                 baseline: Optional[Baseline] = None, core_messages: Sequence[Message] = (),
                 counters: Optional[dict] = None, started: Optional[float] = None) -> CheckResult:
-    """What :func:`usdksl.checking.pipeline.check_shot` (``shot`` read, ``name`` reported) returns for
+    """What :func:`usdksl.pipeline.check.check_shot` (``shot`` read, ``name`` reported) returns for
     ``options``, from ``parts`` that cover its checked range: chunk folders (:class:`Chunk`) or Dask
     windows (usdksl.scale.windows). Each part has ``start``, ``end``, ``checked_pairs``, ``where`` and
     ``contacts(paths, stem)``. The shot is loaded once more over the whole range to plan and render it,

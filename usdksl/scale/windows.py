@@ -34,10 +34,11 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..checking.pipeline import (INFO, CheckOptions, Message, check_segment, check_shot, load_and_plan,
-                                 message_collector)
 from ..contacts import ContactTable
 from ..errors import UsdkslInputError, UsdkslUsageError
+from ..pipeline.check import check_segment, check_shot, load_and_plan
+from ..pipeline.messages import INFO, Message, message_collector
+from ..pipeline.options import CheckOptions
 from ..reading.loader import shot_sample_times
 from ..reading.scope import include_predicate
 from ..reports.manifest import checked_pairs

@@ -1,6 +1,18 @@
 #pragma once
 /// @file constants.hpp
-/// @brief Every tolerance and default the core uses, named in one place.
+/// @brief The ground floor's constants: the defaults of a check that the
+///        bindings hand to Python (CCD tolerance, iteration cap, thickness),
+///        the box padding the broad phase and the kinetic trees share, and
+///        the flightplan's merge tolerance and work size.
+///
+/// Every other constant is named in its topic's header, beside the code it
+/// tunes: the narrow phase's error bounds in `ccd/ccd_constants.hpp`,
+/// rounding in `geometry/rounding.hpp`, clearance margins in
+/// `narrow_phase/pair_clearance.hpp`, hysteresis and look-ahead in
+/// `kinetic/separation_list.hpp` and `kinetic/step_box_tree.hpp`, page sizes
+/// in `huge_page_allocator.hpp`, and so on; one that only a topic's own
+/// sources use (time-window sizes, progress intervals, cache shapes) stays
+/// private in `src/<topic>/`.
 
 #include <cstdint>
 

@@ -82,7 +82,7 @@ TEST(PairClearance, AVertexOffTheCornerAlongTheDiagonalIsNotCleared) {
     clearance.start({0, 1, 2}, a, {3, 4, 5}, b, false, thickness, settings.tolerance, kMagnitude);
     EXPECT_FALSE(clearance.holds_at(a, b));
     // 0.9 thickness on each axis fits the per-axis cube but is 1.56
-    // thicknesses away: not a contact (Euclidean, issue 14).
+    // thicknesses away: not a contact (Euclidean distance decides).
     const Positions apart = off_the_corner(0.9 * thickness);
     EXPECT_FALSE(triangle_pair_ccd({{0, 1, 2}, a, a}, {{3, 4, 5}, apart, apart}, false, settings).hit);
 }

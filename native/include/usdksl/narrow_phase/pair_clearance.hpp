@@ -27,9 +27,8 @@ constexpr double PAIR_CLEARANCE_TOLERANCE_FACTOR = 64.0;
 
 /// @brief How far (in multiples of the contact distance, Euclidean) the narrow
 ///        phase may report a contact, beyond the box-size and rounding slack
-///        the other terms cover: it decides Euclidean distance (until session
-///        19 it accepted a per-axis cube, whose corners lie sqrt(3) times as
-///        far, and this was 2).
+///        the other terms cover. One, because it decides Euclidean distance:
+///        a per-axis cube would reach sqrt(3) times as far, at its corners.
 constexpr double PAIR_CLEARANCE_CONTACT_REACH = 1.0;
 
 /// @brief Rounding allowance relative to the largest absolute coordinate seen.

@@ -1,0 +1,46 @@
+"""The pipeline: the check of one shot, from the USD file to the text of every report (usdksl/README.md, Floors).
+
+``check`` runs it (:func:`~usdksl.pipeline.check.check_shot`); ``options`` is what it is asked to do,
+``messages`` what it says, ``loading`` the shot loaded in pieces, ``files`` where the reports go and what
+they hold, ``result`` what it returns; ``coverage`` accounts for every prim and stretch, ``memory_budget``
+refuses a shot that would not fit, ``progress`` draws the bar on a terminal.
+
+The names are imported on first use (PEP 562), so that ``usdksl.pipeline.progress`` (which the many-shot
+bar reads) does not import the whole check.
+"""
+
+from importlib import import_module
+from typing import TYPE_CHECKING
+
+#: Public name -> the module that defines it.
+_EXPORTS = {
+    "CheckOptions": "usdksl.pipeline.options",
+    "CheckResult": "usdksl.pipeline.result",
+    "Message": "usdksl.pipeline.messages",
+    "OutputTargets": "usdksl.pipeline.files",
+    "check_shot": "usdksl.pipeline.check",
+    "output_targets": "usdksl.pipeline.files",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name):
+    module_name = _EXPORTS.get(name)
+    if module_name is None:
+        raise AttributeError(f"module 'usdksl.pipeline' has no attribute {name!r}")
+    value = getattr(import_module(module_name), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))
+
+
+if TYPE_CHECKING:   # what the names are, for type checkers and readers
+    from .check import check_shot  # noqa: F401
+    from .files import OutputTargets, output_targets  # noqa: F401
+    from .messages import Message  # noqa: F401
+    from .options import CheckOptions  # noqa: F401
+    from .result import CheckResult  # noqa: F401

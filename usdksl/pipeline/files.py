@@ -1,0 +1,145 @@
+"""The files of one check: where they go (:class:`OutputTargets`) and what they hold (:func:`render_files`).
+
+Nothing here writes: :func:`usdksl.reports.output.write_files` publishes what :func:`render_files` returns
+all together.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Dict, Optional, Sequence, Tuple, Union
+
+from ..baseline import BaselineComparison
+from ..clock import StageClock
+from ..contacts import ContactTable
+from ..errors import UsdkslUsageError
+from ..reading.loader import open_stage
+from ..reading.scope import Plan
+from ..reading.segments import topology_epochs
+from ..reports.formats import contacts_csv, json_report, summary_csv
+from ..reports.output import check_writable_directory, resolve_output_path
+from ..reports.override import override_layer, override_layer_name, shot_stem
+from ..version import package_version
+from .coverage import Coverage
+from .options import CheckOptions, TimeRange
+
+# Imported where they are used, so that a plain check does not pay for them at start-up: the JUnit
+# writer (xml.etree), a farm chunk's manifest (hashlib) and the contact timeline.
+
+#: What write_files publishes at a target: text, bytes, or None (remove the file if there is one).
+FileData = Optional[Union[str, bytes]]
+
+
+@dataclass(frozen=True)
+class OutputTargets:
+    """Where the files of one shot go. ``json_path``/``junit_path`` None: not written; ``json_to_stdout``:
+    the JSON document goes to stdout instead of a file (``--json -``)."""
+
+    out_dir: Path
+    json_path: Optional[Path] = None
+    junit_path: Optional[Path] = None
+    json_to_stdout: bool = False
+    #: --plot: the contact timeline PNG (usdksl.reports.timeline).
+    plot_path: Optional[Path] = None
+
+    def contacts_csv(self, shot: str) -> Path:
+        return self.out_dir / f"{shot_stem(shot)}.contacts.csv"
+
+    def summary_csv(self, shot: str) -> Path:
+        return self.out_dir / f"{shot_stem(shot)}.summary.csv"
+
+    def override_layer(self, shot: str, binary: bool = False) -> Path:
+        """``<stem>.usdksl.usda``, or ``.usdksl.usdc`` for a layer written as a crate file."""
+        return self.out_dir / override_layer_name(shot, binary)
+
+    def crosscheck_csv(self, shot: str) -> Path:
+        return self.out_dir / f"{shot_stem(shot)}.crosscheck.csv"
+
+    def manifest(self, shot: str) -> Path:
+        from ..reports.manifest import manifest_name
+
+        return self.out_dir / manifest_name(shot_stem(shot))
+
+
+def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str] = None,
+                   junit_path: Optional[str] = None, plot_path: Optional[str] = None) -> OutputTargets:
+    """Resolve and check the output locations before any work is done: ``out`` defaults to the shot's
+    folder; ``json_path`` '-' means stdout. Raises UsdkslInputError for a missing shot and
+    UsdkslUsageError for a folder that cannot be written."""
+    if not os.path.isfile(shot):
+        open_stage(shot)   # a missing input is reported as such, before anything about the output folder
+    out_dir = Path(out) if out else Path(shot).resolve().parent
+    check_writable_directory(out_dir)
+    extra = [resolve_output_path(value) for value in (json_path, junit_path, plot_path)]
+    for target in extra:
+        if target is not None:
+            check_writable_directory(target.resolve().parent)
+    if plot_path is not None:
+        from ..reports.timeline import require_matplotlib
+
+        require_matplotlib()
+    return OutputTargets(out_dir=out_dir, json_path=extra[0], junit_path=extra[1],
+                         json_to_stdout=json_path == "-", plot_path=extra[2])
+
+
+def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
+                 tables: Sequence[ContactTable], exit_code: int, span: TimeRange,
+                 crosscheck_text: Optional[str] = None,
+                 comparison: Optional[BaselineComparison] = None, coverage: Optional[Coverage] = None,
+                 findings: Optional[list] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
+    """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
+    stdout or None), in write order.
+
+    ``segments``: [(range, loaded Shot)] as :func:`usdksl.pipeline.loading.load_segments` gives them,
+    ``tables`` the contacts of each. A run over a time range (a farm chunk) also writes its manifest
+    (usdksl.reports.manifest)."""
+    table = concatenate_pieces(segments, tables)
+    clock = StageClock.from_metadata(segments[0][1].metadata)
+    files: Dict[Path, FileData] = {}
+    known = None if comparison is None else comparison.known
+    files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known)
+    files[targets.summary_csv(shot)] = summary_csv(table, clock, known)
+    if crosscheck_text is not None:
+        files[targets.crosscheck_csv(shot)] = crosscheck_text
+    checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
+    layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
+                           segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
+                           else None, span=span)
+    files[targets.override_layer(shot, layer.binary)] = layer.data()
+    files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
+    if options.time_range is not None:
+        from ..reports.manifest import file_sha256, manifest_text
+
+        files[targets.manifest(shot)] = manifest_text(name, file_sha256(shot), options.settings(), span, plan,
+                                                      len(segments), package_version())
+    stdout = None
+    if targets.json_path is not None or targets.json_to_stdout:
+        json_text = json_report(name, options.settings(), plan, table, exit_code, clock,
+                                version=package_version(),
+                                baseline=None if comparison is None else comparison.to_dict(), known=known,
+                                coverage=None if coverage is None else coverage.to_dict(), findings=findings)
+        if targets.json_path is not None:
+            files[targets.json_path] = json_text
+        else:
+            stdout = json_text
+    if targets.junit_path is not None:
+        from ..reports.junit import junit_report
+
+        files[targets.junit_path] = junit_report(name, plan, table, clock, known)
+    if targets.plot_path is not None:
+        if table.last_time is None:
+            raise UsdkslUsageError("the contact timeline needs last contacts (CheckOptions(last_contact=True))")
+        from ..reports.timeline import timeline_png
+
+        files[targets.plot_path] = timeline_png(table, clock, span, name, known)
+    return files, stdout
+
+
+def concatenate_pieces(segments, tables: Sequence[ContactTable]) -> ContactTable:
+    """The contacts of a shot checked in pieces ([(range, Shot)], usdksl.reading.segments) as one table: a face
+    pair whose meshes keep their faces across pieces is reported once, at its first contact."""
+    if len(tables) == 1:
+        return tables[0]
+    return ContactTable.concatenate(list(tables), topology_epochs([shot for _, shot in segments]))
