@@ -27,7 +27,6 @@ import functools
 import hashlib
 import multiprocessing
 import os
-import resource
 import subprocess
 import sys
 import tempfile
@@ -37,10 +36,12 @@ from pathlib import Path
 from typing import Dict, List, Optional, Set, Tuple
 
 from usdksl.checking.collision import default_threads
-from usdksl.checking.pipeline import CheckOptions
+from usdksl.pipeline.options import CheckOptions
 from usdksl.scale.batch import make_jobs, run_batch, run_here, worst_exit_code
 from usdksl.scale.dask_runner import run_on_dask
 from usdksl.scale.local_cluster import default_workers
+
+from harness import Clock, git_revision
 
 HERE = Path(__file__).resolve().parent
 GENERATE = HERE.parent / "samples" / "generate.py"
@@ -66,13 +67,6 @@ def digests(folder: Path) -> Dict[str, str]:
     return {path.name: hashlib.sha256(path.read_bytes()).hexdigest() for path in sorted(folder.iterdir())}
 
 
-def cpu_seconds() -> float:
-    """User + system CPU seconds of this process and of its children that have ended and been reaped
-    (Dask's workers end with their cluster, inside each timed run: see :func:`reap_workers`)."""
-    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
-    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
-
-
 def reap_workers(before: Set[int]) -> None:
     """Wait (untimed) until the worker processes started since ``before`` have ended and been reaped, so
     that their CPU time is in RUSAGE_CHILDREN; gives up after REAP_TIMEOUT_SECONDS."""
@@ -89,16 +83,18 @@ def reap_workers(before: Set[int]) -> None:
 
 
 def timed_batch(shots: List[str], out: Path, runner) -> Tuple[float, float, List[int]]:
-    """(wall seconds, CPU seconds, windows per shot) of one checked batch written to ``out``."""
+    """(wall seconds, CPU seconds, windows per shot) of one checked batch written to ``out``. CPU: this
+    process and its worker processes, which end with their cluster inside the run and are reaped
+    (:func:`reap_workers`, after the wall clock stops) before it is read."""
     import psutil   # a dependency of distributed
 
     out.mkdir(parents=True, exist_ok=True)
     children = {child.pid for child in psutil.Process().children()}
-    cpu, started = cpu_seconds(), time.perf_counter()
+    clock = Clock()
     outcomes = run_batch(make_jobs(shots, str(out)), CheckOptions(), runner=runner)
-    seconds = time.perf_counter() - started
+    seconds = clock.wall_s()
     reap_workers(children)
-    cpu = cpu_seconds() - cpu
+    cpu = clock.cpu_s()
     assert worst_exit_code(outcomes) in (0, 1), [outcome.line() for outcome in outcomes]
     return seconds, cpu, [outcome.windows for outcome in outcomes]
 
@@ -143,14 +139,6 @@ def table_lines(rows: List[tuple], markdown: bool) -> List[str]:
             lines.append(f"{name:>20}: windows {windows:>3}  {seconds:7.1f} s wall  speedup {one:>6} vs 1 worker, "
                          f"{vs_here:.2f}x vs in-process  CPU {cpu:7.1f} s ({busy:.2f} cores busy)")
     return lines
-
-
-def revision() -> str:
-    try:
-        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=HERE, capture_output=True, text=True,
-                              check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
 
 
 def load_average() -> str:
@@ -204,7 +192,7 @@ def main(argv=None) -> int:
     print("\n".join(lines))
     if args.write is not None:
         command = "python benchmarks/batch_scaling.py " + " ".join(argv if argv is not None else sys.argv[1:])
-        page = [f"`{command}` (source: {revision()}), {default_threads()} cores, shared with other jobs.",
+        page = [f"`{command}` (source: {git_revision(str(HERE))}), {default_threads()} cores, shared with other jobs.",
                 "Wall seconds include starting the Dask cluster (what `usdksl check --jobs N` pays); CPU seconds "
                 "are this process and its worker processes, user + system; CPU / wall is the cores kept busy. "
                 "The in-process run checks one shot after the other with the core on every core (`--threads`)."]

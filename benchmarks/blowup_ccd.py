@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import time
 
 import numpy as np
 
@@ -29,6 +28,7 @@ from usdksl import ccd
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from blowup_setup import add_blowup_arguments, blowup_target  # noqa: E402
+from harness import call  # noqa: E402
 
 DEFAULT_SHOT = os.path.join(HERE, "..", "samples", "fold.usda")
 #: Relative padding of the swept-box filter (to the coordinates' magnitude), as the core pads boxes.
@@ -78,9 +78,9 @@ def run_queries(points: np.ndarray, sample: int, triangles: np.ndarray, pairs: n
     seconds, iterations, hits, undecided = 0.0, [], [], []
     for vertex_face, edge_edge in batches:
         for run, queries in ((ccd.vertex_face_detailed, vertex_face), (ccd.edge_edge_detailed, edge_edge)):
-            started = time.process_time()
-            answers = run(queries, tolerance=args.tolerance, thickness=args.thickness)
-            seconds += time.process_time() - started
+            measured = call(run, queries, tolerance=args.tolerance, thickness=args.thickness)
+            seconds += measured.cpu_s
+            answers = measured.value
             iterations.append(answers.iterations)
             hits.append(answers.hit)
             undecided.append(answers.undecided)

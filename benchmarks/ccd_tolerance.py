@@ -1,8 +1,9 @@
 """What accuracy costs in time: our CCD against Tight-Inclusion (ipctk) over
 the shared ground-truth queries, tolerance swept from 1e-2 to 1e-8.
 
-Both are timed one query per Python call (same call overhead), median per
-query; our batch time (one C++ loop) is printed too. Note the tolerances are
+Both are timed one query per Python call (same call overhead, wall time,
+benchmarks/harness.py), median per query; our batch time (one C++ loop) is
+printed too. Note the tolerances are
 not the same quantity: ours is a time-interval fraction, Tight-Inclusion's a
 distance (co-domain) tolerance; they are compared at equal numbers.
 
@@ -10,12 +11,15 @@ distance (co-domain) tolerance; they are compared at equal numbers.
 """
 
 import argparse
-import time
+import shlex
+import sys
 from pathlib import Path
 
 import numpy as np
 
 from usdksl import ccd
+
+from harness import call, time_each
 
 TOLERANCES = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
 MAX_ITERATIONS = ccd.DEFAULT_MAX_ITERATIONS
@@ -39,16 +43,6 @@ def load(data: Path, max_queries: int):
     return out
 
 
-def time_each(function, queries):
-    times = np.empty(len(queries))
-    hits = np.empty(len(queries), dtype=bool)
-    for i, query in enumerate(queries):
-        start = time.perf_counter()
-        hits[i] = function(query)
-        times[i] = time.perf_counter() - start
-    return hits, times
-
-
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--data", type=Path, default=Path(__file__).resolve().parents[2] / "shared" / "data")
@@ -64,14 +58,15 @@ def main():
     rows = []
     for kind, (queries, truth) in data.items():
         for tolerance in TOLERANCES:
-            start = time.perf_counter()
-            batch = ours_fn[kind](queries, tolerance=tolerance, max_iterations=MAX_ITERATIONS)
-            batch_per_query = (time.perf_counter() - start) / len(queries)
+            measured = call(ours_fn[kind], queries, tolerance=tolerance, max_iterations=MAX_ITERATIONS)
+            batch, batch_per_query = measured.value, measured.wall_s / len(queries)
             ours_hit, ours_t = time_each(
                 lambda q: ours_fn[kind](q[None], tolerance=tolerance, max_iterations=MAX_ITERATIONS).hit[0], queries)
+            ours_hit = np.asarray(ours_hit, dtype=bool)
             assert np.array_equal(ours_hit, batch.hit)
             ti_hit, ti_t = time_each(
                 lambda q: ti_fn[kind](*q, 0.0, 1.0, tolerance, MAX_ITERATIONS)[0], queries)
+            ti_hit = np.asarray(ti_hit, dtype=bool)
             row = dict(kind=kind, tolerance=tolerance, queries=len(queries),
                        ours_fn=int(np.sum(truth & ~ours_hit)), ours_fp=int(np.sum(~truth & ours_hit)),
                        ours_undecided=int(batch.undecided.sum()),
@@ -98,7 +93,8 @@ def main():
                      f"{r['ti_median_us']:.2f} | {r['ours_median_us'] / r['ti_median_us']:.2f} | "
                      f"{r['ours_mean_us']:.1f} | {r['ti_mean_us']:.1f} | {r['ours_mean_us'] / r['ti_mean_us']:.2f} | "
                      f"{r['ours_batch_us']:.2f} |")
-    (args.out / "ccd_tolerance.md").write_text("\n".join(lines) + "\n")
+    command = " ".join(["python benchmarks/ccd_tolerance.py"] + [shlex.quote(a) for a in sys.argv[1:]])
+    (args.out / "ccd_tolerance.md").write_text(f"Command: `{command}`\n\n" + "\n".join(lines) + "\n")
 
     import matplotlib
     matplotlib.use("Agg")

@@ -3,10 +3,11 @@
     python benchmarks/coverage_cost.py benchmarks/caches/*.usdc ../shared/data/newton/newton_viewerusd_cloth_twist.usd \\
         --baseline /path/to/other/venv/bin/usdksl
 
-For each shot, ``usdksl.checking.pipeline.check_shot`` runs once in this process with the trust checks timed
-from inside (the coverage account, the composition scan for unresolved assets, the blow-up and cache-glitch
-scan), and the printed ratio is their time over the whole check's (wall, the same run). With ``--baseline`` (the
-``usdksl`` command of another build, e.g. the commit before these checks), ``usdksl check`` runs with both
+For each shot, ``usdksl.check_shot`` runs once in this process with the trust checks timed from inside (the
+coverage account, the composition scan for unresolved assets, the blow-up and cache-glitch scan;
+benchmarks/harness.py), and the printed ratio is their time over the whole check's (wall, the same run). With
+``--baseline`` (the ``usdksl`` command of another build, e.g. the commit before these checks, or its
+environment's python), ``usdksl check`` runs with both
 builds on the shot and the SHA-256 of their contacts.csv, keyed by the first seven columns
 (time,prim_a,face_a,prim_b,face_b,kind,feature: the answer), are compared. Results go to
 benchmarks/results/coverage_cost.md. The machine is a shared 2-core box: ratios measured in one run are the
@@ -20,11 +21,11 @@ import csv
 import hashlib
 import io
 import os
-import subprocess
 import sys
 import tempfile
-import time
-from typing import Callable, Dict, List
+from typing import Dict
+
+from harness import Build, Stopwatch, call
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results", "coverage_cost.md")
@@ -39,45 +40,17 @@ def answer_hash(contacts_csv: str) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-class Stopwatch:
-    """Wraps functions in modules so that every call adds its wall time to one total."""
-
-    def __init__(self):
-        self.seconds: Dict[str, float] = {}
-        self._restore: List[Callable[[], None]] = []
-
-    def wrap(self, module, name: str, label: str) -> None:
-        original = getattr(module, name)
-
-        def timed(*args, **kwargs):
-            started = time.perf_counter()
-            try:
-                return original(*args, **kwargs)
-            finally:
-                self.seconds[label] = self.seconds.get(label, 0.0) + time.perf_counter() - started
-
-        setattr(module, name, timed)
-        self._restore.append(lambda: setattr(module, name, original))
-
-    def restore(self) -> None:
-        for undo in reversed(self._restore):
-            undo()
-
-
 def measure(shot: str) -> Dict:
-    from usdksl.checking import pipeline
+    import usdksl
+    from usdksl.pipeline import check as pipeline
     from usdksl.reading import blowups, composition
 
-    watch = Stopwatch()
-    watch.wrap(pipeline, "shot_coverage", "coverage account")
-    watch.wrap(composition, "unresolved_assets", "unresolved-asset scan")
-    watch.wrap(blowups, "find_glitches", "cache-glitch scan")
-    try:
-        started = time.perf_counter()
-        result = pipeline.check_shot(shot, pipeline.CheckOptions())
-        total = time.perf_counter() - started
-    finally:
-        watch.restore()
+    with Stopwatch() as watch:
+        watch.wrap(pipeline, "shot_coverage", "coverage account")
+        watch.wrap(composition, "unresolved_assets", "unresolved-asset scan")
+        watch.wrap(blowups, "find_glitches", "cache-glitch scan")
+        checked = call(usdksl.check_shot, shot, usdksl.CheckOptions())
+    result, total = checked.value, checked.wall_s
     contacts = next(text for path, text in result.files.items() if str(path).endswith(".contacts.csv"))
     return {"shot": shot, "total": total, "parts": watch.seconds, "contacts": result.table.count,
             "answer": answer_hash(contacts), "complete": result.coverage.complete,
@@ -85,8 +58,9 @@ def measure(shot: str) -> Dict:
 
 
 def baseline_answer(command: str, shot: str) -> str:
+    """The answer hash of ``usdksl check SHOT`` run by another build (its usdksl command or python)."""
     with tempfile.TemporaryDirectory() as out:
-        subprocess.run([command, "check", shot, "--out", out, "-q"], check=False)
+        Build.of(command).run("check", shot, "--out", out, "-q")
         stem = os.path.splitext(os.path.basename(shot))[0]
         with open(os.path.join(out, f"{stem}.contacts.csv")) as handle:
             return answer_hash(handle.read())
@@ -95,7 +69,8 @@ def baseline_answer(command: str, shot: str) -> str:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("shots", nargs="+")
-    parser.add_argument("--baseline", default=None, help="usdksl command of another build to compare answers with")
+    parser.add_argument("--baseline", default=None,
+                        help="usdksl command (or python) of another build to compare answers with")
     parser.add_argument("--output", default=RESULTS)
     args = parser.parse_args(argv)
     lines = ["# What the trust checks cost", "",

@@ -6,17 +6,19 @@ A waving sheet of about ``--faces`` quads (two triangles each) over ``--frames``
 box falling through it, is cross-checked frame by frame (library call, no USD file). Prints the
 face-frames per second of the whole cross-check, the share of time spent inside Embree casting rays and
 the ratio against a reading-only pass over the same frames (interpolating and concatenating the points),
-all measured in this one run.
+all measured in this one run (wall time, benchmarks/harness.py).
 """
 
 import argparse
-import time
 
 import numpy as np
 
 import usdksl.crosscheck.embree_frames as embree_frames
-from usdksl.crosscheck.shot import ContactList, crosscheck_shot, points_at
+from usdksl.contacts.table import ContactTable
+from usdksl.crosscheck.shot import crosscheck_shot, points_at
 from usdksl.reading.loader import MeshData, Shot
+
+from harness import Stopwatch, call
 
 
 def sheet_mesh(faces: int, frames: int) -> MeshData:
@@ -52,28 +54,19 @@ def main():
     arguments = parser.parse_args()
     meshes = [sheet_mesh(arguments.faces, arguments.frames), box_mesh(arguments.frames)]
     shot = Shot("generated", meshes, meshes[0].times.copy(), {}, None)
-    no_contacts = ContactList(*(np.zeros(0),) * 5)
+    no_contacts = ContactTable.empty([mesh.path for mesh in meshes])
 
-    cast_seconds = [0.0]
-    original_cast = embree_frames._cast_all_hits
+    with Stopwatch() as watch:
+        watch.wrap(embree_frames, "_cast_all_hits", "casting")
+        checked = call(crosscheck_shot, shot, contacts=no_contacts)
+    result, seconds = checked.value, checked.wall_s
+    cast_seconds = watch.seconds.get("casting", 0.0)
 
-    def timed_cast(*args, **kwargs):
-        start = time.perf_counter()
-        try:
-            return original_cast(*args, **kwargs)
-        finally:
-            cast_seconds[0] += time.perf_counter() - start
+    def read_frames():
+        for frame in shot.times:
+            np.concatenate([points_at(mesh, float(frame)) for mesh in meshes]).astype(np.float32)
 
-    embree_frames._cast_all_hits = timed_cast
-    start = time.perf_counter()
-    result = crosscheck_shot(shot, contacts=no_contacts)
-    seconds = time.perf_counter() - start
-    embree_frames._cast_all_hits = original_cast
-
-    start = time.perf_counter()
-    for frame in shot.times:
-        np.concatenate([points_at(mesh, float(frame)) for mesh in meshes]).astype(np.float32)
-    reading = time.perf_counter() - start
+    reading = call(read_frames).wall_s
 
     face_frames = result.counters["face_frames"]
     triangles = sum(mesh.triangle_count for mesh in meshes)
@@ -85,7 +78,7 @@ def main():
           f"unconfirmed {result.counters['unconfirmed_candidates']:,}, truncated rays "
           f"{result.counters['rays_truncated']}")
     print(f"intersecting face pair-frames {len(result.time):,} ({result.face_pairs} distinct pairs)")
-    print(f"share of time casting rays in Embree: {cast_seconds[0] / seconds:.2f}")
+    print(f"share of time casting rays in Embree: {cast_seconds / seconds:.2f}")
     print(f"cross-check / reading the frames alone: {seconds / reading:.1f}x")
 
 

@@ -10,11 +10,11 @@ every pair with at least one deforming mesh is checked) or a generated per-frame
     perframe:N:F   a cloth of 2*N*N triangles sampled at every one of F frames, waving on curves, sinking
                    onto a static slab and folding over itself (self and inter contacts; no Newton needed).
 
-Each (shot, method, threads) run happens in a fresh subprocess so that its peak memory (ru_maxrss,
-reported in MB and in bytes per triangle-sample) is its own; the time is measured around
-find_contacts alone: process time (all threads added up) and wall time. With --repeat, the repeats go
-round all settings in turn (so that every setting sees the same stretch of machine load) and the one of
-least process time counts.
+Each (shot, method, threads) run happens in a fresh subprocess (benchmarks/harness.py) so that its peak
+memory (the RSS high-water mark during find_contacts, loaded shot included, reported in MB and in bytes
+per triangle-sample) is its own; the time is measured around find_contacts alone: process time (CPU, all
+threads added up) and wall time. With --repeat, the repeats go round all settings in turn (so that every
+setting sees the same stretch of machine load) and the one of least process time counts.
 
 A method written METHOD@baseline runs METHOD with the --baseline-python interpreter instead: another
 build of usdksl (e.g. another worktree's .venv), measured in the same run as this one's, so that a
@@ -37,16 +37,14 @@ from __future__ import annotations
 import argparse
 import datetime
 import hashlib
-import json
 import os
-import resource
-import subprocess
 import shlex
 import sys
 import tempfile
-import time
 
 import numpy as np
+
+from harness import Build, alternate, git_revision, load_average, measuring
 
 EVENT_COUNTERS = ("kinetic_tree_events", "bv_overlap_events", "fathers_do_not_overlap_events",
                   "leaves_do_not_overlap_events", "plane_kept_steps", "polygons_collide_events", "bv_change_events")
@@ -132,37 +130,35 @@ def run_one(shot, method, threads, contacts_out=None):
     meshes = load_meshes(shot)
     pairs = checked_pairs(meshes)
     kwargs = {} if threads is None else {"threads": threads}
-    cpu, wall = time.process_time(), time.perf_counter()
-    result = usdksl.find_contacts(meshes, pairs, method=method, **kwargs)
-    cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+    with measuring() as measured:
+        result = usdksl.find_contacts(meshes, pairs, method=method, **kwargs)
     answer = hashlib.sha256()
     for column in (result.time, result.mesh_a, result.tri_a, result.mesh_b, result.tri_b, result.feature):
         answer.update(np.ascontiguousarray(column).tobytes())
     triangle_samples = sum(int(m.triangles.shape[0]) * int(m.times.shape[0]) for m in meshes)
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     faces = result.face_contacts(meshes)
     if contacts_out:
         np.savez(contacts_out, **{name: getattr(faces, name) for name in FACE_CONTACT_COLUMNS})
-    return {"cpu": cpu, "wall": wall, "counters": result.counters, "pairs": len(result),
+    return {"cpu": measured.cpu_s, "wall": measured.wall_s, "counters": result.counters, "pairs": len(result),
             "face_pairs": len(faces), "answer": answer.hexdigest()[:16],
-            "peak_bytes": peak, "triangle_samples": triangle_samples,
+            "peak_bytes": measured.peak_rss_bytes, "triangle_samples": triangle_samples,
             "triangles": sum(int(m.triangles.shape[0]) for m in meshes),
             "sample_interval": longest_sample_interval(meshes), "usdksl": os.path.dirname(usdksl.__file__)}
 
 
 def run_isolated(shot, label, threads, baseline_python=None, contacts_out=None):
-    """Runs ``label`` (a method, or METHOD@baseline for the baseline interpreter) in a fresh process."""
-    python, method = sys.executable, label
+    """Runs ``label`` (a method, or METHOD@baseline for the baseline interpreter) in a fresh process;
+    ``run_one``'s measurements with the load average at the start."""
+    build, method = Build.current(), label
     if label.endswith(BASELINE_SUFFIX):
         if not baseline_python:
             raise SystemExit(f"{label} needs --baseline-python")
-        python, method = baseline_python, label[:-len(BASELINE_SUFFIX)]
-    command = [python, os.path.abspath(__file__), "--one", shot, method, str(threads or 0)]
-    if contacts_out:
-        command += ["--contacts-out", contacts_out]
-    load = os.getloadavg()[0]
-    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
-    return dict(json.loads(out.strip().splitlines()[-1]), load=load)
+        build, method = Build.of(baseline_python), label[:-len(BASELINE_SUFFIX)]
+    load = load_average()
+    measured = build.call(run_one, shot, method, threads, contacts_out)
+    if measured.error:
+        raise RuntimeError(f"{label} on {shot} failed: {measured.error}\n{measured.stderr}")
+    return dict(measured.value, load=load)
 
 
 def build_of(label):
@@ -210,29 +206,23 @@ def describe(shot, method, threads, r):
             f"load={r['load']:.2f}")
 
 
-def git_revision(folder):
-    """Short commit of the checkout holding ``folder``, with '+changes' when its tracked files differ."""
-    def git(*args):
-        return subprocess.run(["git", "-C", folder, *args], capture_output=True, text=True).stdout.strip()
-    commit = git("rev-parse", "--short", "HEAD") or "unknown"
-    return commit + ("+changes" if git("status", "--porcelain", "--untracked-files=no") else "")
-
-
 def measure_shot(shot, labels, thread_counts, repeat, baseline_python, scratch):
     """Runs every (label, threads) ``repeat`` times, round after round; returns {(label, threads): best
     run} (least process time) and {(label, threads): saved face contacts}."""
-    results, contacts = {}, {}
-    for _ in range(repeat):
-        for label in labels:
-            for threads in thread_counts:
-                key = (label, threads)
-                path = os.path.join(scratch, f"{len(os.listdir(scratch))}.npz")
-                r = run_isolated(shot, label, threads, baseline_python, path)
-                print(describe(shot, label, threads, r), flush=True)
-                contacts.setdefault(key, path)
-                if key not in results or r["cpu"] < results[key]["cpu"]:
-                    results[key] = r
-    return results, contacts
+    contacts = {}
+
+    def setting(label, threads):
+        def measure():
+            path = os.path.join(scratch, f"{len(os.listdir(scratch))}.npz")
+            r = run_isolated(shot, label, threads, baseline_python, path)
+            print(describe(shot, label, threads, r), flush=True)
+            contacts.setdefault((label, threads), path)
+            return r
+        return measure
+
+    runs = alternate({(label, threads): setting(label, threads) for label in labels for threads in thread_counts},
+                     repeat)
+    return {key: min(records, key=lambda r: r["cpu"]) for key, records in runs.items()}, contacts
 
 
 def judge_answers(shot, results, contacts):
@@ -359,8 +349,6 @@ def render_markdown(title, command, shots_done, labels, thread_counts, builds):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--one", nargs=3, metavar=("SHOT", "METHOD", "THREADS"), help=argparse.SUPPRESS)
-    parser.add_argument("--contacts-out", help=argparse.SUPPRESS)
     parser.add_argument("shots", nargs="?")
     parser.add_argument("methods", nargs="?", default="swept,ksl",
                         help=f"comma-separated; METHOD{BASELINE_SUFFIX} runs METHOD with --baseline-python")
@@ -372,10 +360,6 @@ def main():
     parser.add_argument("--markdown", default=None, help="write the results as a markdown page here")
     parser.add_argument("--title", default="KSL against swept in one run", help="heading of the --markdown page")
     args = parser.parse_args()
-    if args.one:
-        shot, method, threads = args.one
-        print(json.dumps(run_one(shot, method, int(threads) or None, args.contacts_out)))
-        return 0
     thread_counts = [int(t) for t in args.threads.split(",")] if args.threads else [None]
     labels = args.methods.split(",")
     command = "python benchmarks/ksl_vs_swept.py " + " ".join(shlex.quote(a) for a in sys.argv[1:])

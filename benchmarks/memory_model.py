@@ -4,21 +4,22 @@
 
 Generates tablecloth shots (samples/generate.py) over a grid of sizes and sample counts into a
 temporary folder, checks each in a fresh interpreter and measures the peak RSS the check adds
-(the process's peak RSS, VmHWM, after the check minus the RSS just before it, imports done). Prints, per shot and method,
-the scan's counts, the measured rise, the estimate and their ratio, then the least-squares fit of
-bytes = fixed + a * vertex_samples + b * triangles * threads (per method; each thread checks a time
-window with trees and lists of its own) to compare with the constants in memory_budget.py. The model is meant to stay within 2x of the measurement (tests hold it to that on
-two sizes); heavy self contact adds memory per contact that no scan can know.
+(benchmarks/harness.py: the RSS high-water mark during the check minus the RSS just before it, imports
+done). Prints, per shot and method, the scan's counts, the measured rise, the estimate and their ratio,
+then the least-squares fit of bytes = fixed + a * vertex_samples + b * triangles * threads (per method;
+each thread checks a time window with trees and lists of its own) to compare with the constants in
+memory_budget.py. The model is meant to stay within 2x of the measurement (tests hold it to that on two
+sizes); heavy self contact adds memory per contact that no scan can know.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import subprocess
 import sys
 import tempfile
+
+from harness import call_fresh, measuring
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 #: (faces, keyframes, samples per keyframe) of the tablecloth grid.
@@ -29,41 +30,28 @@ TARGET_RATIO = 2.0
 
 def measure(path: str, method: str, threads: int) -> dict:
     """Runs in a fresh interpreter, so the RSS before the check is the imports' and nothing else."""
-    import resource
-
     import numpy  # noqa: F401
     from pxr import Usd  # noqa: F401
 
     from usdksl import _native  # noqa: F401
-    from usdksl.checking.memory_budget import estimated_bytes, scan_shot
-    from usdksl.checking.pipeline import CheckOptions, check_shot
+    from usdksl.pipeline.check import check_shot
+    from usdksl.pipeline.memory_budget import estimated_bytes, scan_shot
+    from usdksl.pipeline.options import CheckOptions
 
     size = scan_shot(path)
     counts = {"meshes": size.meshes, "vertex_samples": size.vertex_samples, "triangles": size.triangles,
               "estimate": estimated_bytes(size, method, threads)}
     del size
-    rss_before = status_bytes("VmRSS:")
-    result = check_shot(path, CheckOptions(method=method, memory_limit="off", threads=threads))
-    # The process's own high-water mark; ru_maxrss agrees when the parent is small (Linux carries it
-    # over exec from the spawning process).
-    peak = status_bytes("VmHWM:")
-    maxrss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    return dict(counts, rise=peak - rss_before, ru_maxrss_rise=maxrss - rss_before,
-                contacts=int(result.table.count))
-
-
-def status_bytes(field: str) -> int:
-    with open("/proc/self/status") as status:
-        for line in status:
-            if line.startswith(field):
-                return int(line.split()[1]) * 1024
-    raise RuntimeError("needs Linux /proc")
+    with measuring() as measured:
+        result = check_shot(path, CheckOptions(method=method, memory_limit="off", threads=threads))
+    return dict(counts, rise=measured.peak_rise_bytes, contacts=int(result.table.count))
 
 
 def measure_in_subprocess(path: str, method: str, threads: int) -> dict:
-    output = subprocess.run([sys.executable, os.path.abspath(__file__), "--measure", path, "--methods", method,
-                             "--threads", str(threads)], check=True, capture_output=True, text=True).stdout
-    return json.loads(output.strip().splitlines()[-1])
+    measured = call_fresh(measure, path, method, threads)
+    if measured.error:
+        raise RuntimeError(f"{method} check of {path} failed: {measured.error}\n{measured.stderr}")
+    return measured.value
 
 
 def fit(rows):
@@ -81,11 +69,7 @@ def main(argv=None) -> int:
     parser.add_argument("--methods", default="ksl,swept")
     parser.add_argument("--threads", default="1,2", help="thread counts to measure (comma-separated)")
     parser.add_argument("--quick", action="store_true", help="small shots only (a few minutes)")
-    parser.add_argument("--measure", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    if args.measure:
-        print(json.dumps(measure(args.measure, args.methods, int(args.threads))))
-        return 0
 
     sys.path.insert(0, os.path.join(REPO, "samples"))
     import generate

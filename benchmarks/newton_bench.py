@@ -3,7 +3,8 @@
     python benchmarks/newton_bench.py benchmarks/caches/*.usdc ../shared/data/newton/newton_viewerusd_cloth_twist.usd
     python benchmarks/newton_bench.py CACHE --methods ksl,swept,tight --budget 300
 
-Methods (each in a fresh interpreter, one after the other, killed past ``--budget`` CPU seconds):
+Methods (each in a fresh interpreter, one after the other, killed past ``--budget`` CPU seconds; timed with
+benchmarks/harness.py):
 
 - ``ksl``, ``swept``, ``discrete``: ``usdksl.find_contacts`` on the pairs ``usdksl check`` plans
   (``usdksl.reading.scope.plan_shot``, default options), then face pairs; the shot is loaded before the clock starts.
@@ -32,20 +33,18 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import shlex
-import signal
-import subprocess
 import sys
 import tempfile
 import time
-from typing import Dict, List, Optional
+from typing import Callable, Dict, List, Optional
 
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import peer_ipctk  # noqa: E402
+from harness import Build, Measurement, byte_compile_usdksl, call_fresh, measuring, run  # noqa: E402
 
 RESULTS = os.path.join(HERE, "results")
 DEFAULT_JSON = os.path.join(RESULTS, "newton.json")
@@ -63,25 +62,16 @@ MACHINE_NOTE = "2-core shared machine (other sessions run builds and benchmarks 
 
 # --------------------------------------------------------------------------- one method, in a worker
 
-def _usdksl_executable() -> str:
-    candidate = os.path.join(os.path.dirname(sys.executable), "usdksl")
-    return candidate if os.path.exists(candidate) else "usdksl"
-
-
 def _save_faces(path: str, paths: List[str], time_, mesh_a, face_a, mesh_b, face_b) -> None:
     np.savez(path, paths=np.asarray(paths, dtype=str), time=np.asarray(time_, np.float64),
              mesh_a=np.asarray(mesh_a, np.int64), face_a=np.asarray(face_a, np.int64),
              mesh_b=np.asarray(mesh_b, np.int64), face_b=np.asarray(face_b, np.int64))
 
 
-def _timed_process(command: List[str], record: Dict) -> subprocess.CompletedProcess:
+def _timed_process(command: List[str], record: Dict) -> Measurement:
     """Runs ``command`` and records its wall seconds and CPU seconds (all its threads) in ``record``."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    completed = subprocess.run(command, capture_output=True, text=True)
-    record["wall_s"] = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    record["cpu_s"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    completed = run(command)
+    record["wall_s"], record["cpu_s"] = completed.wall_s, completed.cpu_s
     return completed
 
 
@@ -94,18 +84,18 @@ def worker(method: str, shot_path: str, out_prefix: str) -> Dict:
     if method == "ipctk-sweep-e2e":
         completed = _timed_process([sys.executable, os.path.join(HERE, "peer_ipctk.py"), shot_path,
                                     "--mode", "sweep"], record)
-        if completed.returncode != 0:
-            raise RuntimeError(f"peer_ipctk.py --mode sweep exited {completed.returncode}: "
+        if completed.exit_code != 0:
+            raise RuntimeError(f"peer_ipctk.py --mode sweep exited {completed.exit_code}: "
                                f"{completed.stderr.strip()[-300:]}")
         record["summary"] = completed.stdout.strip().splitlines()[-1] if completed.stdout.strip() else ""
         return record
     if method == "check":
         with tempfile.TemporaryDirectory(prefix="newton-bench-") as out_dir:
-            completed = _timed_process([_usdksl_executable(), "check", shot_path, "--out", out_dir], record)
-            record["exit_code"] = completed.returncode
+            completed = _timed_process(Build.current().command("check", shot_path, "--out", out_dir), record)
+            record["exit_code"] = completed.exit_code
             record["summary"] = completed.stderr.strip().splitlines()[-1] if completed.stderr.strip() else ""
-            if completed.returncode not in (0, 1):
-                raise RuntimeError(f"usdksl check exited {completed.returncode}: {completed.stderr.strip()[-300:]}")
+            if completed.exit_code not in (0, 1):
+                raise RuntimeError(f"usdksl check exited {completed.exit_code}: {completed.stderr.strip()[-300:]}")
             stem = os.path.splitext(os.path.basename(shot_path))[0]
             keys, times = peer_ipctk.read_contacts_csv(os.path.join(out_dir, f"{stem}.contacts.csv"))
         np.savez(out_prefix + ".npz", keys=keys, time=times)
@@ -115,37 +105,35 @@ def worker(method: str, shot_path: str, out_prefix: str) -> Dict:
     import usdksl
     from usdksl.reading.scope import ScopeOptions, plan_shot
 
-    load_start = time.perf_counter()
-    shot = usdksl.load_shot(shot_path)
-    plan = plan_shot(shot, ScopeOptions())
-    record["load_s"] = time.perf_counter() - load_start
+    with measuring() as loading:
+        shot = usdksl.load_shot(shot_path)
+        plan = plan_shot(shot, ScopeOptions())
+    record["load_s"] = loading.wall_s
     paths = [mesh.path for mesh in shot.meshes]
-    start, cpu_start = time.perf_counter(), time.process_time()
+    with measuring() as measured:
+        if method in USDKSL_METHODS:
+            result = usdksl.find_contacts(shot.meshes, plan.pairs, method=method)
+            faces = result.face_contacts(shot.meshes)
+        else:
+            combined = peer_ipctk.combine(shot.meshes, plan.pairs, plan.moving)
+            if method == "ipctk-sweep":
+                starts, times, counters = peer_ipctk.earliest_contact_sweep(combined)
+            else:
+                contacts = peer_ipctk.all_first_contacts(combined,
+                                                         peer_ipctk.MODES["tight" if method == "tight" else "default"])
+    record.update(wall_s=measured.wall_s, cpu_s=measured.cpu_s, peak_rss_bytes=measured.peak_rss_bytes)
     if method in USDKSL_METHODS:
-        result = usdksl.find_contacts(shot.meshes, plan.pairs, method=method)
-        faces = result.face_contacts(shot.meshes)
-        record["wall_s"] = time.perf_counter() - start
-        record["cpu_s"] = time.process_time() - cpu_start
         record["counters"] = {key: int(value) for key, value in result.counters.items()}
         record["face_pairs"] = len(faces)
         _save_faces(out_prefix + ".npz", paths, faces.time, faces.mesh_a, faces.face_a, faces.mesh_b, faces.face_b)
-        return record
-    combined = peer_ipctk.combine(shot.meshes, plan.pairs, plan.moving)
-    if method == "ipctk-sweep":
-        starts, times, counters = peer_ipctk.earliest_contact_sweep(combined)
-        record["wall_s"] = time.perf_counter() - start
-        record["cpu_s"] = time.process_time() - cpu_start
+    elif method == "ipctk-sweep":
         record["counters"] = counters
         np.savez(out_prefix + ".npz", interval_start=starts, time=times)
-        return record
-    settings = peer_ipctk.MODES["tight" if method == "tight" else "default"]
-    contacts = peer_ipctk.all_first_contacts(combined, settings)
-    record["wall_s"] = time.perf_counter() - start
-    record["cpu_s"] = time.process_time() - cpu_start
-    record["counters"] = contacts.counters
-    record["face_pairs"] = len(contacts)
-    _save_faces(out_prefix + ".npz", contacts.paths, contacts.time, contacts.mesh_a, contacts.face_a,
-                contacts.mesh_b, contacts.face_b)
+    else:
+        record["counters"] = contacts.counters
+        record["face_pairs"] = len(contacts)
+        _save_faces(out_prefix + ".npz", contacts.paths, contacts.time, contacts.mesh_a, contacts.face_a,
+                    contacts.mesh_b, contacts.face_b)
     return record
 
 
@@ -163,23 +151,17 @@ def describe(shot_path: str) -> Dict:
             "samples": int(len(shot.times)), "time_range": [float(shot.times[0]), float(shot.times[-1])]}
 
 
-def _run_worker(args: List[str], budget_s: float) -> Dict:
-    command = [sys.executable, os.path.abspath(__file__), "--worker"] + args
-    limit = int(budget_s) + 1
-
-    def cpu_budget():
-        resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
-
-    try:
-        completed = subprocess.run(command, capture_output=True, text=True, timeout=budget_s * WALL_BUDGET_FACTOR,
-                                   preexec_fn=cpu_budget)
-    except subprocess.TimeoutExpired:
+def _run_worker(function: Callable[..., Dict], args: List[str], budget_s: float) -> Dict:
+    """``function(*args)`` in a fresh interpreter, ended past ``budget_s`` CPU seconds (or WALL_BUDGET_FACTOR
+    times that in wall seconds): its record, or why there is none."""
+    measured = call_fresh(function, *args, cpu_budget_s=budget_s, timeout_s=budget_s * WALL_BUDGET_FACTOR)
+    if measured.timed_out:
         return {"skipped": f"over the {budget_s * WALL_BUDGET_FACTOR:g} s wall-time cap"}
-    if completed.returncode in (-signal.SIGXCPU, -signal.SIGKILL):
+    if measured.over_cpu_budget:
         return {"skipped": f"over the {budget_s:g} s CPU budget"}
-    if completed.returncode != 0:
-        return {"error": (completed.stderr.strip().splitlines() or ["?"])[-1][:300]}
-    return json.loads(completed.stdout.strip().splitlines()[-1])
+    if measured.error:
+        return {"error": measured.error}
+    return measured.value
 
 
 # --------------------------------------------------------------------------- comparing
@@ -218,32 +200,17 @@ def compare_sweep(npz, reference, sample_times: np.ndarray) -> Dict:
 
 # --------------------------------------------------------------------------- one cache
 
-def byte_compile_usdksl() -> None:
-    """Writes the .pyc files of the installed usdksl package (and of these benchmarks), as ``pip install``
-    does: in an editable install run with PYTHONDONTWRITEBYTECODE (this machine's default), every ``check``
-    process would otherwise compile its own modules again, about 0.1 s that no installed copy pays and the
-    in-process peer methods never see."""
-    import compileall
-    import importlib.util
-
-    # located, not imported: only the command line imports the command line package
-    folders = [location for package in ("usdksl", "usdksl.cli")
-               for location in importlib.util.find_spec(package).submodule_search_locations]
-    for folder in folders + [HERE]:
-        compileall.compile_dir(folder, quiet=1)
-
-
 def bench_cache(shot_path: str, methods: List[str], budget_s: float, raw_dir: str) -> Dict:
     entry: Dict = {"cache": shot_path, "name": os.path.splitext(os.path.basename(shot_path))[0],
                    "load_average_at_start": [round(x, 2) for x in os.getloadavg()],
                    "started": time.strftime("%Y-%m-%dT%H:%M:%S"), "budget_s": budget_s}
     entry["recording"] = _recording_metadata(shot_path)
-    entry["shot"] = _run_worker(["describe", shot_path, "-"], budget_s)
+    entry["shot"] = _run_worker(describe, [shot_path], budget_s)
     print(f"\n== {shot_path}: {entry['shot']}", file=sys.stderr, flush=True)
     records = {}
     for method in methods:
         prefix = os.path.join(raw_dir, f"{entry['name']}.{method}")
-        record = _run_worker([method, shot_path, prefix], budget_s)
+        record = _run_worker(worker, [method, shot_path, prefix], budget_s)
         records[method] = record
         shown = {k: v for k, v in record.items() if k in ("wall_s", "cpu_s", "face_pairs", "skipped", "error")}
         print(f"   {method:12s} {shown}", file=sys.stderr, flush=True)
@@ -453,11 +420,6 @@ def render(argv: List[str]) -> int:
 
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    if argv and argv[0] == "--worker":
-        method, shot_path, out_prefix = argv[1:4]
-        record = describe(shot_path) if method == "describe" else worker(method, shot_path, out_prefix)
-        print(json.dumps(record))
-        return 0
     if argv and argv[0] == "--render":
         return render(argv[1:])
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])

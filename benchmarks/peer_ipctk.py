@@ -30,7 +30,7 @@ have a time no later than any later hit. Python touches each ipctk candidate onc
 bindings return candidate objects) and once to call the CCD; everything else is numpy.
 
 Modes: ``default`` uses ipctk's own CCD defaults (tolerance 1e-6, 1e7 iterations), as a user would;
-``tight`` (tolerance 1e-9, 1e8 iterations) is the independent reference for reported times (issue 14).
+``tight`` (tolerance 1e-9, 1e8 iterations) is the independent reference for reported times.
 ``earliest_contact_sweep`` is what most ipctk users run: ``ipctk.compute_collision_free_stepsize`` per
 interval, one earliest time per interval (not per face pair).
 
@@ -43,11 +43,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
+
+from harness import Clock
 
 #: ipctk's own defaults for Tight-Inclusion (what a user gets without choosing).
 DEFAULT_TOLERANCE = 1e-6
@@ -55,7 +56,8 @@ DEFAULT_MAX_ITERATIONS = 10_000_000
 #: The tight reference: Tight-Inclusion's codomain tolerance (scene units) and iteration cap.
 TIGHT_TOLERANCE = 1e-9
 TIGHT_MAX_ITERATIONS = 100_000_000
-#: Issue 14's agreement threshold between a reported time and the tight reference (time codes).
+#: Largest difference between a reported time and the tight reference that still agrees (time codes): the
+#: exact-times acceptance threshold (benchmarks/results/exact_times.md).
 AGREEMENT_TIME_CODES = 1e-3
 
 
@@ -433,7 +435,7 @@ def read_contacts_csv(path: str) -> Tuple[np.ndarray, np.ndarray]:
 def compare_times(reported_keys: np.ndarray, reported_times: np.ndarray, reference_keys: np.ndarray,
                   reference_times: np.ndarray, agreement: float = AGREEMENT_TIME_CODES) -> Dict:
     """Reported first contacts against a reference (face-pair keys from ``pair_keys``, times in time codes):
-    issue 14's acceptance numbers. ``error = reported - reference``: negative is early, positive late."""
+    the exact-times acceptance numbers. ``error = reported - reference``: negative is early, positive late."""
     common, at_reported, at_reference = np.intersect1d(reported_keys, reference_keys, return_indices=True)
     error = np.asarray(reported_times, np.float64)[at_reported] - np.asarray(reference_times, np.float64)[at_reference]
     within = np.abs(error) <= agreement
@@ -486,7 +488,7 @@ def main(argv=None) -> int:
     parser.add_argument("--reference", default=None, metavar="REFERENCE_CSV",
                         help="with --compare: the tight reference written earlier by --csv, instead of computing it")
     args = parser.parse_args(argv)
-    started = time.perf_counter()
+    clock = Clock()
     if args.compare and args.reference:
         report = compare_times(*read_contacts_csv(args.compare), *read_contacts_csv(args.reference))
         report["reference"] = args.reference
@@ -494,7 +496,7 @@ def main(argv=None) -> int:
         return 0
     if args.compare:
         report, reference = compare_csv_to_tight_reference(args.shot, args.compare, thickness=args.thickness)
-        report["reference_seconds"] = round(time.perf_counter() - started, 2)
+        report["reference_seconds"] = round(clock.wall_s(), 2)
         if args.csv:
             with open(args.csv, "w") as handle:
                 handle.write(contacts_csv_text(reference))
@@ -504,7 +506,7 @@ def main(argv=None) -> int:
     if args.mode == "sweep":
         starts, times, counters = earliest_contact_sweep(combined, PeerSettings(thickness=args.thickness))
         print(f"{len(starts)} of {counters['intervals']} intervals with contact; first at "
-              f"{times[0] if len(times) else float('nan'):g}; {time.perf_counter() - started:.1f} s")
+              f"{times[0] if len(times) else float('nan'):g}; {clock.wall_s():.1f} s")
         return 0
     settings = MODES[args.mode]
     settings = PeerSettings(settings.tolerance, settings.max_iterations, args.thickness, settings.broad_phase)
@@ -512,7 +514,7 @@ def main(argv=None) -> int:
     if args.csv:
         with open(args.csv, "w") as handle:
             handle.write(contacts_csv_text(contacts))
-    print(f"{len(contacts)} face pairs; counters {contacts.counters}; {time.perf_counter() - started:.1f} s")
+    print(f"{len(contacts)} face pairs; counters {contacts.counters}; {clock.wall_s():.1f} s")
     return 0
 
 

@@ -36,6 +36,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import collider_meshes  # noqa: E402
+from harness import Clock, call  # noqa: E402
 
 CACHES = os.path.join(HERE, "caches")
 FRAMES_PER_SECOND = 60
@@ -444,7 +445,7 @@ def simulate(scene: Scene, frames: int, progress: bool = True):
     if scene.drive is not None:
         scene.drive(model, state_0, state_1, sim_time)
     record(0)
-    started = time.perf_counter()
+    clock = Clock()
     for frame in range(1, frames + 1):
         for _ in range(scene.substeps):
             if scene.drive is not None:
@@ -461,7 +462,7 @@ def simulate(scene: Scene, frames: int, progress: bool = True):
         if not np.all(np.isfinite(positions[frame])):
             raise RuntimeError(f"simulation blew up at frame {frame}")
         if progress and (frame % 10 == 0 or frame == frames):
-            elapsed = time.perf_counter() - started
+            elapsed = clock.wall_s()
             print(f"  frame {frame}/{frames}  {elapsed:.0f} s", file=sys.stderr, flush=True)
     return positions, bodies
 
@@ -551,10 +552,9 @@ def record(scene_name: str, frames: Optional[int], scale: float, out_dir: str, a
     triangles = int(sum(len(c.triangles) for c in scene.cloths))
     print(f"{scene_name}: {triangles} cloth triangles in {len(scene.cloths)} pieces, {len(scene.colliders)} "
           f"colliders, {frames} frames -> {path}", file=sys.stderr, flush=True)
-    started, cpu_started = time.perf_counter(), time.process_time()
-    positions, bodies = simulate(scene, frames)
-    simulated_s = time.perf_counter() - started
-    simulated_cpu_s = time.process_time() - cpu_started
+    simulated = call(simulate, scene, frames)
+    positions, bodies = simulated.value
+    simulated_s, simulated_cpu_s = simulated.wall_s, simulated.cpu_s
     metadata = {
         "scene": scene_name, "note": scene.note, "frames": frames, "scale": scale,
         "framesPerSecond": FRAMES_PER_SECOND, "substeps": scene.substeps, "iterations": scene.iterations,

@@ -1,51 +1,72 @@
-"""The accuracy/time page: benchmarks/results/REPORT.md and its PNG plots, from run.py's rows.
+"""benchmarks/results/REPORT.md: one page of the current benchmark results, each section naming the
+command that produced it.
 
-    python benchmarks/report.py RESULTS.json...   # rows written by run.py --results (runs concatenated)
-    python benchmarks/report.py benchmarks/results/bench_results.json NEW.json...   # add runs to the page
+    python benchmarks/report.py                  # the page from the result files in benchmarks/results/
+    python benchmarks/report.py --run            # re-run the quick benchmarks first (see QUICK_RUNS)
+    python benchmarks/report.py RESULTS.json...  # accuracy/time rows of run.py --results instead of the page's own
 
-Rows of one shot from several runs merge into one (see `merge_rows`); the page's own bench_results.json
-keeps every run's command and source revision, so feeding it back in extends the page without the raw
-contact files of earlier runs.
+The page assembles what the benchmarks wrote into benchmarks/results/ and re-runs nothing (unless
+``--run``): run.py's accuracy/time rows (bench_results.json, rendered into headlines, a grid table, PNG plots
+and per-shot tables), then each other benchmark's page as it is (``RESULT_PAGES``: newton.md, threads.md,
+scale.md, thickness.md, coverage_cost.md, ...) when present. Each section says which command produced it,
+read from the page itself. One result per benchmark: earlier ones are in git history.
+
+Rows of one shot from several runs merge into one (see `merge_rows`); bench_results.json keeps every
+run's command and source revision, so ``report.py benchmarks/results/bench_results.json NEW.json`` adds a
+run without the raw contact files of earlier ones.
 
 Plots (matplotlib, Agg): time against missed contacts (discrete, substepped, swept, KSL), KSL events
 against swept-volume BV tests per sample interval over mesh size (paper Fig. 11), time against samples
-per keyframe (paper Fig. 10). The narrow-phase tolerance sweep of ccd_tolerance.py is embedded when its
-outputs are present. Every ratio on the page comes from one run.
+per keyframe (paper Fig. 10). Every ratio on the page comes from one run.
 """
 
 from __future__ import annotations
 
+import argparse
+import glob
 import json
 import math
 import os
 import re
 import sys
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence, Tuple
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+RESULTS = os.path.join(HERE, "results")
 sys.path.insert(0, HERE)
+from harness import run  # noqa: E402
 from suite import METHODS, REFERENCE, SCENE_SIZES, add_comparisons, ksl_events, ratio_rows, same_run_times  # noqa: E402
 
 ACCURACY_METHODS = ("ksl", "swept", "discrete", "discrete x2", "discrete x4", "discrete x8")
 SUMMARY_JSON = "bench_results.json"
+REPORT_MD = "REPORT.md"
 #: Hand-written findings about this page's numbers, embedded under "Investigations" when present.
 NOTES_MD = "notes.md"
-#: benchmarks/batch_scaling.py --write: a batch and a long shot on 1, 2 and all Dask workers.
-BATCH_SCALING_MD = "batch_scaling.md"
-#: Pages of other benchmarks embedded as they are, in this order, when present: (file, heading).
-EMBEDDED_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.py)"),
-                  ("newton_check_vs_sweep.md",
-                   "check against ipctk's earliest-contact sweep on an idle machine (benchmarks/newton_bench.py)"),
-                  ("ksl_vs_swept_newton_single_thread.md",
-                   "KSL against swept at one thread on the Newton caches (benchmarks/ksl_vs_swept.py)"),
-                  ("threads.md", "One thread against two on the largest Newton cache (benchmarks/ksl_vs_swept.py)"),
-                  ("exact_times.md", "Reported times against a tight reference (benchmarks/peer_ipctk.py)"),
-                  ("thickness.md", "Thickness above 0: what it costs and what it measures (benchmarks/thickness.py)"),
-                  ("scale.md", "10k to 1M faces (benchmarks/scale.py)"))
-#: benchmarks/ksl_vs_swept.py --baseline-python: KSL of the core before and after a change on a subset of
+#: benchmarks/ccd_tolerance.py: per-query CCD against Tight-Inclusion over a sweep of tolerances.
+CCD_TOLERANCE_MD, CCD_TOLERANCE_PNG = "ccd_tolerance.md", "ccd_tolerance.png"
+#: Pages of other benchmarks embedded as they are, in this order, when present: (file, heading). Each
+#: heading names the script that writes the page.
+RESULT_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.py)"),
+                ("newton_check_vs_sweep.md",
+                 "check against ipctk's earliest-contact sweep on an idle machine (benchmarks/newton_bench.py)"),
+                ("ksl_vs_swept_newton_single_thread.md",
+                 "KSL against swept at one thread on the Newton caches (benchmarks/ksl_vs_swept.py)"),
+                ("threads.md", "One thread against two on the largest Newton cache (benchmarks/ksl_vs_swept.py)"),
+                ("exact_times.md", "Reported times against a tight reference (benchmarks/peer_ipctk.py)"),
+                ("thickness.md", "Thickness above 0: what it costs and what it measures (benchmarks/thickness.py)"),
+                ("scale.md", "10k to 1M faces (benchmarks/scale.py)"),
+                ("coverage_cost.md", "What the trust checks cost (benchmarks/coverage_cost.py)"),
+                ("batch_scaling.md", "Batches and long shots on Dask (benchmarks/batch_scaling.py)"))
+#: Headings of the page's own sections.
+ACCURACY_HEADING = "What accuracy costs in time: KSL against every method (benchmarks/run.py)"
+PER_SHOT_HEADING = "Accuracy and time per shot (benchmarks/run.py)"
+TOLERANCE_HEADING = "Narrow-phase tolerance sweep (benchmarks/ccd_tolerance.py)"
+INVESTIGATIONS_HEADING = "Investigations"
+#: benchmarks/ksl_vs_swept.py --baseline-python: KSL of an earlier core against this one on a subset of
 #: the keyframed grid, in one run; embedded right after the grid it checks.
 GRID_BEFORE_AFTER_PAGE = ("keyframed_before_after.md",
-                          "The keyframed grid before issue 19's KSL work and on main (benchmarks/ksl_vs_swept.py)")
+                          "The keyframed grid: KSL of an earlier core against this one (benchmarks/ksl_vs_swept.py)")
 
 
 def _ok(row: Dict, label: str) -> Optional[Dict]:
@@ -117,7 +138,7 @@ def method_table(row: Dict) -> List[str]:
 # --------------------------------------------------------------------------- headlines
 
 def headlines(rows: Sequence[Dict]) -> List[str]:
-    """The issue's targets, each with what this run reached (or why it could not say)."""
+    """The benchmark's targets, each with what the rows reached (or why they cannot say)."""
     lines = []
     groups = _groups(rows)
 
@@ -460,91 +481,190 @@ def grid_table(rows: Sequence[Dict]) -> List[str]:
     return lines
 
 
-def embedded_page(out_dir: str, name: str, heading: str) -> List[str]:
-    """Lines of the page ``name`` in ``out_dir`` as a section under ``heading`` (its own title dropped, its
-    sections one level down); none when the page is absent."""
+#: A page's own line giving its command: ``Command: `...` `` or ``Command (run under `nice`): `...` ``.
+_COMMAND_LINE = re.compile(r"Command( \(run under `nice`\))?: `([^`]+)`")
+#: Where a page names a command: in backticks, or alone on an indented (code block) line.
+_QUOTED = re.compile(r"`([^`\n]+)`|^ {4}(\S[^\n]*)$", re.MULTILINE)
+
+
+def _script_of(heading: str) -> str:
+    """The script a section's heading names: 'X (benchmarks/newton_bench.py)' -> 'newton_bench.py'."""
+    named = re.search(r"benchmarks/(\w+\.py)\)$", heading)
+    return named.group(1) if named else ""
+
+
+def _commands_in(text: str, script: str) -> List[str]:
+    """Command lines of ``script`` that ``text`` quotes, in order, each once."""
+    found = (quoted or block for quoted, block in _QUOTED.findall(text))
+    return list(dict.fromkeys(command.strip() for command in found
+                              if re.search(rf"\bpython3?\b\S*\s+(\S*/)?benchmarks/{re.escape(script)}\b", command)))
+
+
+def produced_by(text: str, script: str) -> Tuple[str, str]:
+    """(the sentence naming the command that produced a page, the page without its own command line).
+
+    The page's top part (before its first section) names the command: its one ``Command: `...` `` line of
+    ``script``, which is lifted into the sentence, or else the one command of ``script`` it quotes. A page
+    that quotes several, or quotes them in its sections only, keeps them where they are; a page that quotes
+    none is named by its script."""
+    top = re.split(r"^## ", text, maxsplit=1, flags=re.MULTILINE)[0]
+    own_lines = [match for match in map(_COMMAND_LINE.fullmatch, (line.strip() for line in top.split("\n")))
+                 if match and _commands_in(f"`{match.group(2)}`", script)]
+    if len(own_lines) == 1:
+        command, nice = own_lines[0].group(2), bool(own_lines[0].group(1))
+        lines = text.split("\n")
+        at = next(index for index, line in enumerate(lines) if line.strip() == own_lines[0].group(0))
+        kept = "\n".join(lines[:at] + lines[at + 1:]).strip()
+        return f"Produced by `{command}`{' (run under `nice`)' if nice else ''}.", kept
+    quoted = _commands_in(top, script)
+    if len(quoted) == 1:
+        return f"Produced by `{quoted[0]}`.", text
+    if _commands_in(text, script):
+        return f"Produced by `python benchmarks/{script}`; the page quotes its command lines.", text
+    return f"Produced by `python benchmarks/{script}` (the page does not record its arguments).", text
+
+
+def embedded_page(out_dir: str, name: str, heading: str, level: int = 2) -> List[str]:
+    """Lines of the page ``name`` in ``out_dir`` as a section under ``heading`` at ``level`` (its own title
+    dropped, its sections one level below), opened by the command that produced it; none when the page
+    is absent."""
     page = os.path.join(out_dir, name)
     if not os.path.exists(page):
         return []
     with open(page) as handle:
         body = handle.read().strip().split("\n", 1)
     text = body[1].strip() if body[0].startswith("# ") and len(body) > 1 else "\n".join(body)
-    return [f"## {heading}", "", f"From [{name}]({name}):", "", text.replace("\n## ", "\n### "), ""]
+    sentence, text = produced_by(text, _script_of(heading)) if _script_of(heading) else ("", text)
+    text = re.sub(r"^(#+) ", lambda m: "#" * (len(m.group(1)) + level - 1) + " ", text, flags=re.MULTILINE)
+    return [f"{'#' * level} {heading}", "", f"From [{name}]({name}). {sentence}".rstrip(), "", text, ""]
 
 
-def render(rows: Sequence[Dict], budget_s: float, plots: Dict[str, bool], out_dir: str,
-           command: str = "", machine: str = "") -> str:
-    lines = ["# usdksl: what accuracy costs in time", ""]
-    runs = []
-    for line in (command or "python benchmarks/run.py").split("\n"):
-        text, _, source = line.partition("\t")
-        runs.append(f"- `{text}`" + (f" (source: {source})" if source else ""))
-    lines += [f"Generated on {machine} by:", ""] + runs + ["", "Every method ran in its own "
-              f"fresh interpreter, one after the other, on the same shots; time is wall time of the method call "
-              f"(shot already loaded) except `read` (the loader alone) and `check` (the whole `usdksl check` "
-              f"without interpreter start-up). Peak memory is the kernel's VmHWM above the RSS after loading "
-              f"(C++ allocations included). Per-method budget: {budget_s if isinstance(budget_s, str) else format(budget_s, 'g') + ' s'}; methods over budget are listed as "
-              f"skipped with the reason, never dropped. Timings are from a shared 2-core machine on which other jobs, "
-              f"including up to four of these benchmark runs, ran at the same time: wall times carry noise of up "
-              f"to ~2x between runs and budgets (wall time) cut runs that would fit on an idle machine; the CPU "
-              f"column (process time; our core is single-threaded, ipctk may use a second thread) is steadier.", ""]
-    lines += ["Contacts are compared as authored face pairs (first contact per pair) against KSL on the same shot "
+def _anchor(heading: str) -> str:
+    """The link target GitHub gives a heading."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+def _accuracy_runs(command: str) -> Tuple[List[str], str]:
+    """(bullet lines of run.py's runs, the source revision they share or ''), from one
+    "command<TAB>source revision" per line of ``command``."""
+    runs = [line.partition("\t")[::2] for line in (command or "python benchmarks/run.py").split("\n")]
+    sources = {source for _, source in runs}
+    shared = sources.pop() if len(sources) == 1 else ""
+    bullets = [f"- `{text}`" + (f" (source: {source})" if source and not shared else "") for text, source in runs]
+    return bullets, shared
+
+
+def accuracy_sections(rows: Sequence[Dict], budget_s, plots: Dict[str, bool], out_dir: str, command: str,
+                      machine: str) -> List[str]:
+    """run.py's rows: how they were measured, headlines, the grid, its before/after page and the plots."""
+    budget = budget_s if isinstance(budget_s, str) else format(budget_s, "g") + " s"
+    runs, source = _accuracy_runs(command)
+    lines = [f"## {ACCURACY_HEADING}", "",
+             f"Produced by these runs of `python benchmarks/run.py`{', all of build ' + source if source else ''}"
+             f"{' on ' + machine if machine else ''} (rows of one shot from several runs merged; per-shot tables "
+             f"under [{PER_SHOT_HEADING}](#{_anchor(PER_SHOT_HEADING)})):", ""] + runs
+    lines += ["", "Every method ran in its own fresh interpreter, one after the other, on the same shots; time is "
+              "wall time of the method call (shot already loaded) except `read` (the loader alone) and `check` "
+              "(the whole `usdksl check` without interpreter start-up). Peak memory is the kernel's VmHWM above "
+              f"the RSS after loading (C++ allocations included). Per-method budget: {budget}; methods over "
+              "budget are listed as skipped with the reason, never dropped. Timings are from a shared 2-core "
+              "machine on which other jobs ran at the same time: wall times carry noise of up to ~2x between "
+              "runs and budgets (wall time) cut runs that would fit on an idle machine; the CPU column (process "
+              "time; our core is single-threaded, ipctk may use a second thread) is steadier.", "",
+              "Contacts are compared as authored face pairs (first contact per pair) against KSL on the same shot "
               "with the same build (rows of several runs on one shot file are merged; a method that ran replaces "
               "a skip; KSL is deterministic for one build, so a comparison made against any KSL run of that build "
-              "is kept). "
-              "`ipctk` (Tight-Inclusion CCD, LBVH broad phase, `compute_collision_free_stepsize` per sample interval "
-              "over one CollisionMesh of all meshes) answers only the earliest contact of each interval, so it is "
-              "compared per interval and its time is a lower bound on what our full answer would cost it; its "
-              "'extra' intervals are intervals where meshes are still in contact after their first contact, which "
-              "KSL reports once.", ""]
-    lines += ["## Headlines", "",
+              "is kept). `ipctk` (Tight-Inclusion CCD, LBVH broad phase, `compute_collision_free_stepsize` per "
+              "sample interval over one CollisionMesh of all meshes) answers only the earliest contact of each "
+              "interval, so it is compared per interval and its time is a lower bound on what our full answer "
+              "would cost it; its 'extra' intervals are intervals where meshes are still in contact after their "
+              "first contact, which KSL reports once.", ""]
+    lines += ["### Headlines", "",
               "Verdicts use CPU time where measured (wall time is shown too; see the noise note above).", ""]
     lines += headlines(rows) + [""]
     table = grid_table(rows)
     if table:
-        lines += ["## KSL against swept across the grid", "",
+        lines += ["### KSL against swept across the grid", "",
                   "CPU seconds of KSL per shot and sampling (samples per keyframe, spk), and swept's CPU time as a "
-                  "multiple of it; details and every other method under 'Per shot'.", ""] + table + [""]
-    lines += embedded_page(out_dir, *GRID_BEFORE_AFTER_PAGE)
-    lines += ["## Plots", ""]
+                  "multiple of it; details and every other method per shot.", ""] + table + [""]
+    lines += embedded_page(out_dir, *GRID_BEFORE_AFTER_PAGE, level=3)
     captions = {"time_vs_missed.png": "Time against missed contacts (every sampling of each shot where KSL ran)",
                 "events_vs_bv_tests.png": "KSL events vs swept BV tests per interval over mesh size (Fig. 11)",
                 "time_vs_samples.png": "Time against samples per keyframe (Fig. 10)"}
-    for name, caption in captions.items():
-        if plots.get(name):
-            lines += [f"![{caption}]({name})", ""]
-    if os.path.exists(os.path.join(out_dir, "ccd_tolerance.png")):
-        lines += ["### Narrow-phase tolerance sweep (benchmarks/ccd_tolerance.py)", "",
-                  "![CCD tolerance sweep](ccd_tolerance.png)", ""]
-    tolerance_table = os.path.join(out_dir, "ccd_tolerance.md")
-    if os.path.exists(tolerance_table):
-        with open(tolerance_table) as handle:
-            lines += ["From [ccd_tolerance.md](ccd_tolerance.md) (per-query CCD on the shared ground-truth "
-                      "queries, ours vs Tight-Inclusion; FN = missed contacts):", "", handle.read().strip(), ""]
-    for name, heading in EMBEDDED_PAGES:
-        lines += embedded_page(out_dir, name, heading)
-    batches = os.path.join(out_dir, BATCH_SCALING_MD)
-    if os.path.exists(batches):
-        with open(batches) as handle:
-            lines += ["## Batches and long shots on Dask (benchmarks/batch_scaling.py)", "",
-                      f"From [{BATCH_SCALING_MD}]({BATCH_SCALING_MD}):", "", handle.read().strip(), ""]
-    notes = os.path.join(out_dir, NOTES_MD)
-    if os.path.exists(notes):
-        with open(notes) as handle:
-            lines += ["## Investigations", "", f"From [{NOTES_MD}]({NOTES_MD}) (written by hand, with the commands "
-                      "that check each finding):", "", handle.read().strip(), ""]
-    lines += ["## Per shot", "",
-              "The 'x KSL' columns divide each method's time by the KSL time of the same run. Where a shot's "
-              "methods come from several runs, that can differ from the KSL row (the KSL of the earliest run).", ""]
+    shown = [name for name in captions if plots.get(name)]
+    lines += ["### Plots", ""] + ([line for name in shown for line in (f"![{captions[name]}]({name})", "")]
+                                  or ["None: the rows hold too little to plot.", ""])
+    return lines
+
+
+def tolerance_section(out_dir: str) -> List[str]:
+    """ccd_tolerance.py's table and plot, when present."""
+    table, plot = os.path.join(out_dir, CCD_TOLERANCE_MD), os.path.join(out_dir, CCD_TOLERANCE_PNG)
+    if not (os.path.exists(table) or os.path.exists(plot)):
+        return []
+    text = ""
+    if os.path.exists(table):
+        with open(table) as handle:
+            text = handle.read().strip()
+    sentence, text = produced_by(text, "ccd_tolerance.py")
+    lines = [f"## {TOLERANCE_HEADING}", "", sentence, "",
+             "Per-query CCD on the shared ground-truth queries, ours against Tight-Inclusion; FN = missed "
+             "contacts.", ""]
+    if os.path.exists(plot):
+        lines += [f"![CCD tolerance sweep]({CCD_TOLERANCE_PNG})", ""]
+    if text:
+        lines += [f"From [{CCD_TOLERANCE_MD}]({CCD_TOLERANCE_MD}):", "", text, ""]
+    return lines
+
+
+def per_shot_section(rows: Sequence[Dict]) -> List[str]:
+    lines = [f"## {PER_SHOT_HEADING}", "",
+             f"Produced by the runs listed under [{ACCURACY_HEADING}](#{_anchor(ACCURACY_HEADING)}). The 'x KSL' "
+             "columns divide each method's time by the KSL time of the same run. Where a shot's methods come "
+             "from several runs, that can differ from the KSL row (the KSL of the earliest run).", ""]
     for row in sorted(rows, key=lambda r: _shot_order(r["shot"])):
         sources = row.get("revisions") or []
         note = [f"Source: {'; '.join(sources)}" + (" (methods from different builds: compare with care)"
                                                      if len(sources) > 1 else ""), ""] if sources else []
         lines += [f"### {_shot_title(row['shot'])}", ""] + note + method_table(row) + [""]
-    return "\n".join(lines) + "\n"
+    return lines
 
 
-def write_report(rows: Sequence[Dict], budget_s: float, out_dir: str, command: str = "") -> str:
+def render(rows: Sequence[Dict], budget_s, plots: Dict[str, bool], out_dir: str,
+           command: str = "", machine: str = "") -> str:
+    """The page: run.py's ``rows`` (when there are any), then every result page present in ``out_dir``."""
+    sections: List[List[str]] = []
+    if rows:
+        sections.append(accuracy_sections(rows, budget_s, plots, out_dir, command, machine))
+    sections.append(tolerance_section(out_dir))
+    sections += [embedded_page(out_dir, name, heading) for name, heading in RESULT_PAGES]
+    notes = os.path.join(out_dir, NOTES_MD)
+    if os.path.exists(notes):
+        with open(notes) as handle:
+            sections.append([f"## {INVESTIGATIONS_HEADING}", "", f"From [{NOTES_MD}]({NOTES_MD}), written by hand "
+                             "with the commands that check each finding.", "", handle.read().strip(), ""])
+    if rows:
+        sections.append(per_shot_section(rows))
+    sections = [section for section in sections if section]
+    headings = [section[0][3:] for section in sections]
+    lines = ["# usdksl benchmarks: the current results", "",
+             "Assembled by `python benchmarks/report.py` from the result files beside this page, as they are "
+             "now: one section per benchmark, each naming the command that produced it (and, where its page "
+             "records it, the build it measured). Earlier results are in the git history of this folder. The "
+             "machine is a shared 2-core box: read the ratios measured within one run, not seconds across "
+             "sections.", ""]
+    lines += [f"- [{heading}](#{_anchor(heading)})" for heading in headings] + [""]
+    for section in sections:
+        lines += section
+    return "\n".join(lines).rstrip("\n") + "\n"
+
+
+def write_report(rows: Sequence[Dict], budget_s, out_dir: str, command: str = "",
+                 measured_here: bool = True) -> str:
+    """Writes ``out_dir``/REPORT.md with the plots of ``rows``; returns the page's path. Rows
+    ``measured_here`` (from run.py --report, ``usdksl bench --report`` or run files given to report.py) are
+    saved to bench_results.json, so that the page can be assembled again without them, and the page names
+    this machine; rows read back from bench_results.json are neither saved again nor given a machine."""
     import platform
 
     import matplotlib
@@ -554,14 +674,15 @@ def write_report(rows: Sequence[Dict], budget_s: float, out_dir: str, command: s
         "time_vs_missed.png": _plot_time_vs_missed(rows, os.path.join(out_dir, "time_vs_missed.png")),
         "events_vs_bv_tests.png": _plot_events_vs_bv(rows, os.path.join(out_dir, "events_vs_bv_tests.png")),
         "time_vs_samples.png": _plot_time_vs_samples(rows, os.path.join(out_dir, "time_vs_samples.png")),
-    }
+    } if rows else {}
     machine = f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
-    page = render(rows, budget_s, plots, out_dir, command, machine)
-    report_path = os.path.join(out_dir, "REPORT.md")
+    page = render(rows, budget_s, plots, out_dir, command, machine if measured_here else "")
+    report_path = os.path.join(out_dir, REPORT_MD)
     with open(report_path, "w") as handle:
         handle.write(page)
-    with open(os.path.join(out_dir, SUMMARY_JSON), "w") as handle:
-        json.dump({"budget_s": budget_s, "command": command, "rows": rows}, handle, indent=1, default=float)
+    if measured_here and rows:
+        with open(os.path.join(out_dir, SUMMARY_JSON), "w") as handle:
+            json.dump({"budget_s": budget_s, "command": command, "rows": rows}, handle, indent=1, default=float)
     return report_path
 
 
@@ -654,26 +775,64 @@ def merge_rows(rows: Sequence[Dict]) -> List[Dict]:
     return result
 
 
-def main(argv=None) -> int:
-    argv = list(sys.argv[1:] if argv is None else argv)
-    if not argv:
-        print(__doc__.strip().splitlines()[2], file=sys.stderr)
-        return 2
+def quick_runs(out_dir: str) -> List[List[str]]:
+    """The benchmarks that take minutes, not hours, on the inputs this checkout has, writing into
+    ``out_dir``: coverage_cost.py on the Newton caches (or the samples without them), and ccd_tolerance.py
+    when the shared query data and ipctk are there."""
+    import importlib.util
+
+    shots = sorted(glob.glob(os.path.join(HERE, "caches", "*.usdc"))) or sorted(
+        glob.glob(os.path.join(REPO, "samples", "*.usda")))
+    commands = [["python", "benchmarks/coverage_cost.py", *(os.path.relpath(shot, REPO) for shot in shots),
+                 "--output", os.path.join(out_dir, "coverage_cost.md")]]
+    if os.path.isdir(os.path.join(os.path.dirname(REPO), "shared", "data", "sample-queries")) \
+            and importlib.util.find_spec("ipctk") is not None:
+        commands.append(["python", "benchmarks/ccd_tolerance.py", "--out", out_dir])
+    return commands
+
+
+def run_quick(out_dir: str) -> None:
+    """Runs ``quick_runs`` one after the other from the checkout's root, saying what each took."""
+    for command in quick_runs(out_dir):
+        print("running", " ".join(command), flush=True)
+        measured = run([sys.executable] + command[1:], cwd=REPO)
+        print(f"  exit {measured.exit_code} after {measured.wall_s:.0f} s", flush=True)
+        if measured.exit_code not in (0, 1):   # 1: a target missed, the page is written all the same
+            print(measured.stderr.strip()[-2000:], file=sys.stderr)
+
+
+def load_runs(paths: Sequence[str]) -> Tuple[List[Dict], str, str]:
+    """(merged rows, budgets, run lines "command<TAB>source") of run.py result files."""
     runs = []
-    for path in argv:
+    for path in paths:
         with open(path) as handle:
             runs.append(json.load(handle))
-    for run in runs:
-        for row in run["rows"]:
-            if not row.get("revisions") and run.get("revision"):
-                row["revisions"] = [run["revision"]]
-    rows = merge_rows([row for run in runs for row in run["rows"]])
-    budgets = ", ".join(run["budget_s"] if isinstance(run["budget_s"], str) else f"{run['budget_s']:g} s"
-                        for run in runs)
+    for entry in runs:
+        for row in entry["rows"]:
+            if not row.get("revisions") and entry.get("revision"):
+                row["revisions"] = [entry["revision"]]
+    rows = merge_rows([row for entry in runs for row in entry["rows"]])
+    budgets = ", ".join(entry["budget_s"] if isinstance(entry["budget_s"], str) else f"{entry['budget_s']:g} s"
+                        for entry in runs)
     # a bench_results.json written by this page already lists its runs, one "command<TAB>source" per line
-    commands = "\n".join(run.get("command", "") if "\t" in run.get("command", "")
-                          else f"{run.get('command', '')}\t{run.get('revision', 'unknown')}" for run in runs)
-    print(write_report(rows, budgets, os.path.join(HERE, "results"), commands))
+    commands = "\n".join(entry.get("command", "") if "\t" in entry.get("command", "")
+                         else f"{entry.get('command', '')}\t{entry.get('revision', 'unknown')}" for entry in runs)
+    return rows, budgets, commands
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("results", nargs="*",
+                        help="run.py --results files (default: the results folder's bench_results.json)")
+    parser.add_argument("--run", action="store_true", help="re-run the quick benchmarks first (minutes)")
+    parser.add_argument("--dir", default=RESULTS, help="the results folder (default: benchmarks/results)")
+    args = parser.parse_args(argv)
+    if args.run:
+        run_quick(args.dir)
+    own = os.path.join(args.dir, SUMMARY_JSON)
+    paths = args.results or ([own] if os.path.exists(own) else [])
+    rows, budgets, commands = load_runs(paths)
+    print(write_report(rows, budgets, args.dir, commands, measured_here=bool(args.results)))
     return 0
 
 

@@ -6,9 +6,9 @@
     python benchmarks/run.py SHOT.usdc ...      # given shots (also: usdksl bench SHOT...)
 
 Every method runs in a fresh interpreter (one subprocess per shot and method, one after the other,
-never in parallel), so its peak memory can be read from the kernel (VmHWM, reset after loading via
-/proc/self/clear_refs; C++ allocations included, which tracemalloc would not see). Wall times are
-``time.perf_counter`` around the method call only; the shot is loaded before the clock starts,
+never in parallel; benchmarks/harness.py), so its peak memory can be read from the kernel (VmHWM, reset
+after loading; C++ allocations included, which tracemalloc would not see). Wall and CPU times are
+measured around the method call only; the shot is loaded before the clock starts,
 except for ``read`` (the loader alone: the I/O baseline) and ``check`` (the whole ``usdksl check``
 without interpreter start-up: load, scoping, KSL, CSV and override layer). Each method has a wall
 time budget; a method that exceeds it is killed and reported as skipped, and a method whose cheaper
@@ -29,7 +29,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -38,6 +37,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from harness import Measurement, call_fresh, git_revision, measuring
 # compare_contacts and compare_intervals are imported for scripts that reach them as run.<name>.
 from suite import (METHODS, REFERENCE, SAMPLE_BOUND_KINDS, SCENE_SIZES, add_comparisons,  # noqa: F401
                    benchmark_pairs, compare_contacts, compare_intervals, ksl_events, ratio_rows, same_run_times)
@@ -82,35 +82,6 @@ PRESETS = {
 
 # --------------------------------------------------------------------------- one method in a worker
 
-def _proc_status_bytes(field_name: str) -> Optional[int]:
-    try:
-        with open("/proc/self/status") as status:
-            for line in status:
-                if line.startswith(field_name + ":"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return None
-
-
-def _reset_peak_rss() -> bool:
-    """Start VmHWM afresh from the current RSS (Linux >= 4.0); False when not possible."""
-    try:
-        with open("/proc/self/clear_refs", "w") as handle:
-            handle.write("5")
-        return True
-    except OSError:
-        return False
-
-
-def _peak_rss_bytes() -> int:
-    peak = _proc_status_bytes("VmHWM")
-    if peak is None:
-        import resource
-        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * (1 if sys.platform == "darwin" else 1024)
-    return peak
-
-
 def _mesh_points_at(mesh, times: np.ndarray) -> np.ndarray:
     """float64[T, N, 3]: a mesh's points linearly interpolated at the given times (held outside its samples)."""
     if len(mesh.times) == 1:
@@ -149,63 +120,55 @@ def _ipctk_sweep(shot) -> Tuple[np.ndarray, np.ndarray, Dict[str, int]]:
     return np.asarray(starts, np.int64), np.asarray(contact_times, np.float64), {"intervals": len(times) - 1}
 
 
+def _record_measurement(record: Dict, measured: Measurement) -> None:
+    """Wall and CPU seconds of the method, and its peak memory above the RSS it started from (bytes)."""
+    record.update(wall_s=measured.wall_s, cpu_s=measured.cpu_s, peak_mem_bytes=measured.peak_rise_bytes,
+                  peak_reset=measured.peak_reset)
+
+
 def worker(shot_path: str, label: str, out_prefix: str) -> Dict:
     """Run one method on one shot in this (fresh) process; write contacts to ``out_prefix``.npz."""
     kind, substeps = METHODS[label]
     record: Dict = {"label": label}
     if kind == "read":
         from usdksl.reading.loader import load_shot
-        rss_before = _proc_status_bytes("VmRSS") or 0
-        _reset_peak_rss()
-        start, cpu_start = time.perf_counter(), time.process_time()
-        shot = load_shot(shot_path)
-        record["wall_s"] = time.perf_counter() - start
-        record["cpu_s"] = time.process_time() - cpu_start
-        record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before
+        with measuring() as measured:
+            shot = load_shot(shot_path)
+        _record_measurement(record, measured)
         record["points_bytes"] = int(sum(m.points.nbytes for m in shot.meshes))
         np.savez(out_prefix + ".npz", time=np.zeros(0))
         return record
     if kind == "check":
-        from usdksl.checking.pipeline import check_shot, output_targets
+        from usdksl.pipeline import check_shot, output_targets
         from usdksl.reports.output import write_files
         with tempfile.TemporaryDirectory(prefix="usdksl-bench-") as out_dir:
-            rss_before = _proc_status_bytes("VmRSS") or 0
-            _reset_peak_rss()
-            start, cpu_start = time.perf_counter(), time.process_time()
-            result = check_shot(shot_path, targets=output_targets(shot_path, out_dir))
-            write_files(result.files)
-            record["wall_s"] = time.perf_counter() - start
-            record["cpu_s"] = time.process_time() - cpu_start
-            record["peak_mem_bytes"] = _peak_rss_bytes() - rss_before
+            with measuring() as measured:
+                result = check_shot(shot_path, targets=output_targets(shot_path, out_dir))
+                write_files(result.files)
+        _record_measurement(record, measured)
         record["exit_code"] = int(result.exit_code)
         np.savez(out_prefix + ".npz", time=np.zeros(0))
         return record
 
     from usdksl.reading.loader import load_shot
-    load_start = time.perf_counter()
-    shot = load_shot(shot_path)
-    record["load_s"] = time.perf_counter() - load_start
-    rss_after_load = _proc_status_bytes("VmRSS") or 0
-    record["peak_reset"] = _reset_peak_rss()
+    with measuring() as loading:
+        shot = load_shot(shot_path)
+    record["load_s"] = loading.wall_s
     if kind == "ipctk":
-        start, cpu_start = time.perf_counter(), time.process_time()
-        interval_start, interval_time, counters = _ipctk_sweep(shot)
-        record["wall_s"] = time.perf_counter() - start
-        record["cpu_s"] = time.process_time() - cpu_start
+        with measuring() as measured:
+            interval_start, interval_time, counters = _ipctk_sweep(shot)
+        _record_measurement(record, measured)
         record["counters"] = counters
-        record["peak_mem_bytes"] = _peak_rss_bytes() - rss_after_load
         np.savez(out_prefix + ".npz", interval_start=interval_start, time=interval_time,
                  sample_times=np.asarray(shot.times, np.float64))
         return record
 
     from usdksl.checking.collision import find_contacts
     pairs = benchmark_pairs([m.kind for m in shot.meshes])
-    start, cpu_start = time.perf_counter(), time.process_time()
-    result = find_contacts(shot.meshes, pairs, method=kind, discrete_substeps=max(substeps, 1))
-    faces = result.face_contacts(shot.meshes)
-    record["wall_s"] = time.perf_counter() - start
-    record["cpu_s"] = time.process_time() - cpu_start
-    record["peak_mem_bytes"] = _peak_rss_bytes() - rss_after_load
+    with measuring() as measured:
+        result = find_contacts(shot.meshes, pairs, method=kind, discrete_substeps=max(substeps, 1))
+        faces = result.face_contacts(shot.meshes)
+    _record_measurement(record, measured)
     record["counters"] = {k: int(v) for k, v in result.counters.items()}
     record["triangle_contacts"] = len(result)
     np.savez(out_prefix + ".npz", time=faces.time, mesh_a=faces.mesh_a, face_a=faces.face_a,
@@ -259,18 +222,13 @@ def run_method(shot_path: str, label: str, budget_s: float, raw_dir: str) -> Dic
     os.makedirs(raw_dir, exist_ok=True)
     stem = os.path.splitext(os.path.basename(shot_path))[0]
     prefix = os.path.join(raw_dir, f"{stem}.{label.replace(' ', '_')}.{RUN_ID}")
-    command = [sys.executable, os.path.abspath(__file__), "--worker", shot_path, label, prefix]
-    start = time.perf_counter()
-    try:
-        completed = subprocess.run(command, capture_output=True, text=True, timeout=budget_s)
-    except subprocess.TimeoutExpired:
+    measured = call_fresh(worker, shot_path, label, prefix, timeout_s=budget_s)
+    if measured.timed_out:
         return {"label": label, "status": "skipped", "reason": f"exceeded the {budget_s:g} s budget"}
-    if completed.returncode != 0:
-        tail = " ".join(completed.stderr.strip().splitlines()[-1:]) or f"exit {completed.returncode}"
-        return {"label": label, "status": "failed", "reason": tail[:300]}
-    record = json.loads(completed.stdout.strip().splitlines()[-1])
+    if measured.error:
+        return {"label": label, "status": "failed", "reason": measured.error}
+    record = measured.value
     record["status"] = "ok"
-    record["process_s"] = time.perf_counter() - start
     record["contacts_file"] = prefix + ".npz"
     return record
 
@@ -353,15 +311,8 @@ def format_ratios(records: Dict[str, Dict]) -> str:
 # --------------------------------------------------------------------------- command line
 
 def source_revision() -> str:
-    """The checkout's commit, with '+modified' when tracked files differ from it (what was measured)."""
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True,
-                                text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=REPO,
-                               capture_output=True, text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-    return commit + ("+modified" if dirty else "")
+    """The checkout's commit, with '+changes' when tracked files differ from it (what was measured)."""
+    return git_revision(REPO)
 
 
 def preset_shots(preset: Preset) -> List[ShotInfo]:
@@ -375,10 +326,6 @@ def preset_shots(preset: Preset) -> List[ShotInfo]:
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    if argv[:1] == ["--worker"]:
-        record = worker(argv[1], argv[2], argv[3])
-        print(json.dumps(record))
-        return 0
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("shots", nargs="*", help="USD shots (instead of a preset)")
     group = parser.add_mutually_exclusive_group()

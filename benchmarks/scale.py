@@ -5,10 +5,10 @@
 
 Each shot is made once by ``samples/generate.py tablecloth --faces N --keyframes 10
 --samples-per-keyframe 1`` (10 samples, into samples/generated/) and checked end to end as
-``usdksl check`` does it (the library's check_shot and its files written, in a process of its own, so its
-peak resident memory is its own; the core's work counters are recorded too). Printed per shot:
-wall and CPU seconds, CPU microseconds per face and its ratio to the smallest shot (issue 19's target:
-at most 2x at 1M faces), face pairs in contact per face (the answer grows with the cloth's resolution:
+``usdksl check`` does it (the library's check_shot and its files written, in a process of its own measured
+by benchmarks/harness.py, so its peak resident memory is its own; the core's work counters are recorded
+too). Printed per shot: wall and CPU seconds, CPU microseconds per face and its ratio to the smallest shot
+(target: at most 2x at 1M faces), face pairs in contact per face (the answer grows with the cloth's resolution:
 finer wrinkles touch more), peak memory, and bytes per triangle sample above :data:`MEMORY_BASE_MB`
 against :data:`MEMORY_BUDGET_PER_TRIANGLE_SAMPLE`. The machine is shared and has 2 cores: compare the ratios of
 one run, not seconds across runs.
@@ -19,12 +19,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import subprocess
 import sys
 import tempfile
-import time
 from typing import Dict, List, Optional
+
+from harness import run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
@@ -43,18 +43,9 @@ MEMORY_BUDGET_PER_TRIANGLE_SAMPLE = 1024
 #: primitive distance queries, triangle pairs confirmed on raw samples.
 PER_FACE_COUNTERS = ("bv_tests", "bv_overlap_events", "polygons_collide_events", "narrow_phase_tests",
                      "primitive_queries", "raw_confirmations")
-#: Largest CPU time per face at the biggest shot, relative to the smallest (issue 19's target).
+#: Largest CPU time per face at the biggest shot, relative to the smallest (the target of the core's
+#: scaling: time per face may grow, but not past twice the smallest shot's).
 TIME_PER_FACE_TARGET = 2.0
-
-#: Runs the command in argv[1:] and prints its exit code, CPU seconds and peak resident kB as JSON: the
-#: only child of this process, so RUSAGE_CHILDREN's ru_maxrss is that command's own peak.
-_MEASURE = (
-    "import json, resource, subprocess, sys\n"
-    "completed = subprocess.run(sys.argv[1:], capture_output=True, text=True)\n"
-    "usage = resource.getrusage(resource.RUSAGE_CHILDREN)\n"
-    "print(json.dumps({'exit_code': completed.returncode, 'cpu_s': usage.ru_utime + usage.ru_stime,\n"
-    "                  'peak_kb': usage.ru_maxrss, 'stderr': completed.stderr[-2000:]}))\n"
-)
 
 
 def shot_path(faces: int) -> str:
@@ -86,7 +77,7 @@ def shot_size(path: str) -> Dict[str, int]:
 #: face say why time per face grows. argv: SHOT OUT COUNTERS THREADS (0: all cores).
 _CHECK = (
     "import json, sys\n"
-    "from usdksl.checking.pipeline import CheckOptions, check_shot, output_targets\n"
+    "from usdksl.pipeline import CheckOptions, check_shot, output_targets\n"
     "from usdksl.reports.output import write_files\n"
     "shot, out, counters_path, threads = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])\n"
     "result = check_shot(shot, CheckOptions(threads=threads or None), output_targets(shot, out))\n"
@@ -101,14 +92,11 @@ def measure(path: str, threads: Optional[int], budget_s: float) -> Dict:
         counters_path = os.path.join(out_dir, "counters.json")
         # -P: the checkout's folder must not shadow the installed usdksl
         command = [sys.executable, "-P", "-c", _CHECK, path, out_dir, counters_path, str(threads or 0)]
-        started = time.perf_counter()
-        try:
-            completed = subprocess.run([sys.executable, "-P", "-c", _MEASURE] + command, capture_output=True,
-                                       text=True, timeout=budget_s)
-        except subprocess.TimeoutExpired:
+        measured = run(command, timeout_s=budget_s)
+        if measured.timed_out:
             return {"skipped": f"over the {budget_s:g} s budget"}
-        wall = time.perf_counter() - started
-        record = json.loads(completed.stdout.strip().splitlines()[-1])
+        record = {"exit_code": measured.exit_code, "wall_s": measured.wall_s, "cpu_s": measured.cpu_s,
+                  "peak_kb": measured.peak_rss_bytes // 1024, "stderr": measured.stderr[-2000:]}
         if os.path.exists(counters_path):
             with open(counters_path) as stream:
                 record["counters"] = json.load(stream)
@@ -118,7 +106,6 @@ def measure(path: str, threads: Optional[int], budget_s: float) -> Dict:
                 record["face_pairs"] = sum(1 for _ in stream) - 1
         else:
             record["face_pairs"] = 0
-    record["wall_s"] = wall
     if record["exit_code"] not in (0, 1):
         raise RuntimeError(f"usdksl check exited {record['exit_code']} on {path}: {record['stderr'][-300:]}")
     return record

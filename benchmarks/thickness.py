@@ -4,7 +4,8 @@
         [--baseline-python ../other-worktree/.venv/bin/python] [--sampled 40] [--markdown PAGE.md]
 
 For every shot and thickness, ``find_contacts`` (KSL, one thread) runs in a fresh process on this build and,
-with --baseline-python, on another build. Printed per run: process time, pairs, undecided queries,
+with --baseline-python (another build's python, or its usdksl command), on that build, one after the other
+(benchmarks/harness.py). Printed per run: process time (CPU seconds of find_contacts), pairs, undecided queries,
 primitive queries. Then, independently of the root finder, ``--sampled`` random reported triangle pairs of
 each build are measured with ipctk's point-triangle and segment-segment distances (primitive pairs sharing a
 vertex skipped, as the check skips them) at their reported time: the largest distance over the thickness.
@@ -13,17 +14,16 @@ reaches up to sqrt(3). The ratio line compares process times, this build over th
 """
 
 import argparse
-import json
 import math
 import os
-import subprocess
+import shlex
 import sys
-import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ksl_vs_swept import checked_pairs, git_revision, load_meshes  # noqa: E402
+from harness import Build, git_revision, measuring  # noqa: E402
+from ksl_vs_swept import checked_pairs, load_meshes  # noqa: E402
 from peer_ipctk import _mesh_points_at  # noqa: E402
 
 
@@ -50,9 +50,8 @@ def run_one(shot, thickness, sampled):
     """One check in this process; the measurements as a dict."""
     import usdksl
     meshes = load_meshes(shot)
-    cpu = time.process_time()
-    result = usdksl.find_contacts(meshes, checked_pairs(meshes), method="ksl", threads=1, thickness=thickness)
-    cpu = time.process_time() - cpu
+    with measuring() as measured:
+        result = usdksl.find_contacts(meshes, checked_pairs(meshes), method="ksl", threads=1, thickness=thickness)
     rng = np.random.default_rng(19)
     decided = np.flatnonzero(~result.undecided)
     largest = 0.0
@@ -61,30 +60,28 @@ def run_one(shot, thickness, sampled):
         distance = triangle_pair_distance(meshes[ma], int(result.tri_a[i]), meshes[mb], int(result.tri_b[i]),
                                           float(result.time[i]), ma == mb)
         largest = max(largest, distance / thickness)
-    return {"cpu": cpu, "pairs": len(result), "undecided": int(result.undecided.sum()),
+    return {"cpu": measured.cpu_s, "pairs": len(result), "undecided": int(result.undecided.sum()),
             "queries": int(result.counters.get("primitive_queries", 0)), "largest_distance": largest,
             "first": float(result.time.min()) if len(result) else None}
 
 
-def run_isolated(python, shot, thickness, sampled):
-    command = [python, os.path.abspath(__file__), "--one", shot, str(thickness), str(sampled)]
-    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+def run_isolated(build, shot, thickness, sampled):
+    """``run_one`` with ``build``'s usdksl, in a fresh interpreter."""
+    measured = build.call(run_one, shot, thickness, sampled)
+    if measured.error:
+        raise RuntimeError(f"{build.name} on {shot} at {thickness:g} failed: {measured.error}\n{measured.stderr}")
+    return measured.value
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("shots", nargs="?")
     parser.add_argument("--thickness", default="0.002,0.01", help="comma-separated thicknesses (scene units)")
-    parser.add_argument("--baseline-python", help="interpreter of another build of usdksl")
+    parser.add_argument("--baseline-python", help="interpreter (or usdksl command) of another build of usdksl")
     parser.add_argument("--sampled", type=int, default=40, help="reported pairs measured per run")
     parser.add_argument("--markdown", help="write the results as a markdown page here")
-    parser.add_argument("--one", nargs=3, metavar=("SHOT", "THICKNESS", "SAMPLED"), help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args.one:
-        print(json.dumps(run_one(args.one[0], float(args.one[1]), int(args.one[2]))))
-        return
-    builds = [("current", sys.executable)] + ([("baseline", args.baseline_python)] if args.baseline_python else [])
+    builds = [Build.current("current")] + ([Build.of(args.baseline_python, "baseline")] if args.baseline_python else [])
     here = os.path.dirname(os.path.abspath(__file__))
     lines = ["| shot | thickness | build | process s | pairs | undecided | primitive queries | first contact "
              "| largest distance / thickness (sampled) |", "|---|---|---|---|---|---|---|---|---|"]
@@ -92,11 +89,11 @@ def main():
     for shot in args.shots.split(","):
         for thickness in (float(t) for t in args.thickness.split(",")):
             measured = {}
-            for build, python in builds:
-                r = run_isolated(python, shot, thickness, args.sampled)
-                measured[build] = r
+            for build in builds:
+                r = run_isolated(build, shot, thickness, args.sampled)
+                measured[build.name] = r
                 first = "-" if r["first"] is None else f"{r['first']:.3f}"
-                row = (f"| {os.path.basename(shot)} | {thickness:g} | {build} | {r['cpu']:.2f} | {r['pairs']} | "
+                row = (f"| {os.path.basename(shot)} | {thickness:g} | {build.name} | {r['cpu']:.2f} | {r['pairs']} | "
                        f"{r['undecided']} | {r['queries']} | {first} | {r['largest_distance']:.4f} |")
                 lines.append(row)
                 print(row, flush=True)
@@ -107,9 +104,9 @@ def main():
                 print(ratios[-1], flush=True)
     if args.markdown:
         revision = git_revision(here)
-        baseline = (f" against the baseline build at {git_revision(os.path.dirname(os.path.dirname(os.path.dirname(args.baseline_python))))}"
-                    if args.baseline_python else "")
-        page = ["# Thickness above 0: cost and measure", "",
+        baseline = f" against the baseline build at {builds[1].source()[1]}" if len(builds) > 1 else ""
+        command = "python benchmarks/thickness.py " + " ".join(shlex.quote(a) for a in sys.argv[1:])
+        page = ["# Thickness above 0: cost and measure", "", f"Command: `{command}`", "",
                 f"`benchmarks/thickness.py` at {revision}{baseline}; KSL, one thread, each run in a fresh process. "
                 f"The last column measures {args.sampled} random reported triangle pairs per run with ipctk's "
                 "Euclidean distances at their reported time.", ""] + lines + [""] + ratios + [""]
