@@ -17,9 +17,9 @@ import sys
 
 import click
 
-from usdksl.baseline import baseline_for_shot
 from usdksl.ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from usdksl.checking.collision import METHODS
+from usdksl.contacts.baseline import baseline_for_shot
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.exit_codes import INPUT_ERROR
 from usdksl.pipeline.check import check_shot
@@ -131,14 +131,17 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
     Ctrl-C (SIGINT) and SIGTERM stop the check within a second or two with one line and exit 130 / 143;
     files of a shot not finished are never written.
     """
-    options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
-                           inter_check=inter_check, time_range=time_range, prims=tuple(prims),
-                           exclude=tuple(exclude), include_guides=include_guides,
-                           include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
-                           last_contact=last_contact or plot_path is not None, strict=strict,
-                           threads=threads, memory_limit=memory_limit,
-                           allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only)
     shots = expand_shots(shots)
+    try:   # a value the check cannot use is refused here, before any work
+        options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
+                               inter_check=inter_check, time_range=time_range, prims=tuple(prims),
+                               exclude=tuple(exclude), include_guides=include_guides,
+                               include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
+                               last_contact=last_contact or plot_path is not None, strict=strict,
+                               threads=threads, memory_limit=memory_limit,
+                               allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only)
+    except UsdkslUsageError as error:
+        _fail(shots, error.one_line(), junit_path, error.exit_code)
     finished = []
     single = len(shots) == 1 and jobs is None and scheduler is None
     try:
@@ -194,7 +197,6 @@ def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_tim
             _echo(message.line())
 
     try:
-        options.validate()
         targets = output_targets(shot, out, json_path, junit_path, plot_path)
         if baseline is not None and not os.path.exists(baseline):
             raise UsdkslUsageError("baseline not found", file=baseline)
@@ -233,7 +235,6 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
     if jobs is not None and scheduler is not None:
         raise click.UsageError("give --jobs or --scheduler, not both")
     try:
-        options.validate()
         entries = make_jobs(shots, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path)
         if jobs is None and scheduler is None:
             runner = run_here

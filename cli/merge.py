@@ -4,7 +4,7 @@ import sys
 
 import click
 
-from usdksl.baseline import read_baseline
+from usdksl.contacts.baseline import read_baseline
 from usdksl.errors import UsdkslInputError
 from usdksl.pipeline.files import output_targets
 from usdksl.reports.output import write_files

@@ -3,9 +3,10 @@
 The native core lives in the private ``usdksl._native`` module; the names a
 user needs are re-exported here. The sub-packages, by topic:
 
+``usdksl.contacts``    the contact table in canonical order, contacts.csv read and written, baselines
 ``usdksl.reading``     USD in: the stage as world-space arrays, and which mesh pairs are checked
 ``usdksl.checking``    first contacts: the native core's face (and the shot played backwards, for last contacts)
-``usdksl.reports``     contacts.csv, summary.csv, JSON, JUnit and the override layer, written atomically
+``usdksl.reports``     summary.csv, JSON, JUnit and the override layer; every report file written atomically
 ``usdksl.crosscheck``  static frames intersected with Embree, held against the continuous result
 ``usdksl.pipeline``    the whole check of one shot: load, plan, find first contacts, render every report
 ``usdksl.scale``       many shots, on one process or a Dask cluster, and farm chunks merged
@@ -36,7 +37,7 @@ _EXPORTS = {
     "CheckOptions": "usdksl.pipeline.options",
     "CheckResult": "usdksl.pipeline.result",
     "check_shot": "usdksl.pipeline.check",
-    "ContactTable": "usdksl.contacts",
+    "ContactTable": "usdksl.contacts.table",
     "UsdkslInputError": "usdksl.errors",
     "UsdkslUsageError": "usdksl.errors",
     "MeshData": "usdksl.reading.loader",
@@ -71,7 +72,7 @@ if TYPE_CHECKING:   # what the names are, for type checkers and readers
     from .version import __version__  # noqa: F401
     from . import _native, ccd, errors  # noqa: F401
     from .checking.collision import CollisionResult, find_contacts  # noqa: F401
-    from .contacts import ContactTable  # noqa: F401
+    from .contacts.table import ContactTable  # noqa: F401
     from .errors import UsdkslInputError, UsdkslUsageError  # noqa: F401
     from .pipeline.check import check_shot  # noqa: F401
     from .pipeline.options import CheckOptions  # noqa: F401

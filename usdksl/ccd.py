@@ -118,7 +118,7 @@ def triangle_pair(a_t0, a_t1, b_t0, b_t1, ids_a=None, ids_b=None, same_mesh=Fals
     """Earliest contact of Q moving triangle pairs (6 vertex-face + 9 edge-edge each).
 
     Returns (hit bool[Q], toi float64[Q], feature int8[Q], undecided bool[Q],
-    primitive_queries int32[Q]); feature codes as in :mod:`usdksl.contacts`
+    primitive_queries int32[Q]); feature codes as in :mod:`usdksl.contacts.table`
     (0 vertex of A on B, 1 vertex of B on A, 2 edge-edge). With ``reuse``, a vertex-face
     query repeated within the batch with the same inputs is answered from a memo, as
     ``usdksl check`` does: the answers are the same bit for bit either way.

@@ -1,5 +1,5 @@
 /// @file collision.cpp
-/// @brief Binds find_contacts: numpy arrays in, numpy arrays out.
+/// @brief Binds find_contacts: numpy arrays and a CheckOptions (check_options.cpp) in, numpy arrays out.
 
 #include "usdksl/collision/check.hpp"
 
@@ -44,14 +44,6 @@ MeshAnimation to_mesh(const py::handle& item, size_t index) {
     return mesh;
 }
 
-Method to_method(const std::string& name) {
-    if (name == "ksl") return Method::KineticSeparationList;
-    if (name == "swept") return Method::SweptVolume;
-    if (name == "discrete") return Method::Discrete;
-    if (name == "brute") return Method::BruteForce;
-    throw std::invalid_argument("unknown method '" + name + "' (ksl, swept, discrete, brute)");
-}
-
 template <typename T, typename F>
 py::array_t<T> column(const std::vector<Contact>& contacts, F get) {
     py::array_t<T> out(static_cast<py::ssize_t>(contacts.size()));
@@ -60,9 +52,8 @@ py::array_t<T> column(const std::vector<Contact>& contacts, F get) {
     return out;
 }
 
-py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, const std::string& method,
-                          double t_begin, double t_end, double tolerance, double thickness, int64_t max_iterations,
-                          int32_t discrete_substeps, const py::object& progress, int32_t threads) {
+py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, const CheckOptions& options_in,
+                          const py::object& progress) {
     std::vector<MeshAnimation> meshes;
     meshes.reserve(meshes_in.size());
     for (size_t i = 0; i < meshes_in.size(); ++i) meshes.push_back(to_mesh(meshes_in[i], i));
@@ -71,15 +62,8 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
     std::vector<std::pair<int32_t, int32_t>> pairs;
     for (py::ssize_t i = 0; i < (pairs_in.size() ? pairs_in.shape(0) : 0); ++i)
         pairs.emplace_back(pairs_in.at(i, 0), pairs_in.at(i, 1));
-    CheckOptions options;
-    options.method = to_method(method);
-    options.t_begin = t_begin;
-    options.t_end = t_end;
-    options.ccd.tolerance = tolerance;
-    options.ccd.thickness = thickness;
-    options.ccd.max_iterations = max_iterations;
-    options.discrete_substeps = discrete_substeps;
-    options.threads = threads;
+    // A copy: the core reads it with the GIL released, while Python may change the caller's.
+    CheckOptions options = options_in;
     // Always called back, even without a progress object: with the GIL released Python's signal
     // handlers only run here, so a Ctrl-C, a SIGTERM or a timeout raises in this callback and the
     // exception unwinds through the core (docs/contracts.md, Stopping).
@@ -127,9 +111,9 @@ py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, c
 } // namespace
 
 void define_collision(py::module_& m) {
-    m.def("find_contacts", &find_contacts_py, py::arg("meshes"), py::arg("pairs"), py::arg("method"),
-          py::arg("t_begin"), py::arg("t_end"), py::arg("tolerance"), py::arg("thickness"),
-          py::arg("max_iterations"), py::arg("discrete_substeps"), py::arg("progress"), py::arg("threads") = 1,
-          "First contact of every triangle pair of the given mesh pairs over [t_begin, t_end] (time codes), "
-          "on `threads` threads (<= 0: every hardware thread); the answer does not depend on the count.");
+    m.def("find_contacts", &find_contacts_py, py::arg("meshes"), py::arg("pairs"), py::arg("options"),
+          py::arg("progress") = py::none(),
+          "First contact of every triangle pair of the given mesh pairs over [options.t_begin, options.t_end] "
+          "(time codes), as `options` (CheckOptions) say, on options.threads threads (<= 0: every hardware "
+          "thread; the answer does not depend on the count); progress(time reached, contacts so far) or None.");
 }

@@ -8,6 +8,7 @@
 namespace py = pybind11;
 
 void define_ccd(py::module_& m);
+void define_check_options(py::module_& m);
 void define_collision(py::module_& m);
 
 PYBIND11_MODULE(_native, m) {
@@ -17,5 +18,6 @@ PYBIND11_MODULE(_native, m) {
     m.attr("DEFAULT_CCD_MAX_ITERATIONS") = usdksl::DEFAULT_CCD_MAX_ITERATIONS;
     m.attr("DEFAULT_THICKNESS") = usdksl::DEFAULT_THICKNESS;
     define_ccd(m);
+    define_check_options(m);   // before find_contacts, whose signature names it
     define_collision(m);
 }

@@ -111,8 +111,9 @@ def test_runs_are_deterministic():
 
 def _native_run(meshes, pairs, t0, t1):
     native = [(m.times, m.points, m.triangles, m.triangle_face) for m in meshes]
-    raw = _native.find_contacts(native, np.asarray(pairs, np.int32), "ksl", t0, t1, TOLERANCE, 0.0,
-                                1_000_000, 1, None)
+    options = _native.CheckOptions(method="ksl", t_begin=t0, t_end=t1, tolerance=TOLERANCE, thickness=0.0,
+                                   max_iterations=1_000_000)
+    raw = _native.find_contacts(native, np.asarray(pairs, np.int32), options, None)
     return {(int(a), int(b), int(c), int(d)): float(t)
             for t, a, b, c, d in zip(raw["time"], raw["mesh_a"], raw["tri_a"], raw["mesh_b"], raw["tri_b"])}
 

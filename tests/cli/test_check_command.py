@@ -18,8 +18,8 @@ from usdksl.cli.main import main
 from usdksl.checking.collision import find_contacts
 from usdksl.reading.loader import load_shot
 from usdksl.clock import StageClock
-from usdksl.contacts import ContactTable
-from usdksl.reports.formats import contacts_csv
+from usdksl.contacts.csv_file import contacts_csv
+from usdksl.contacts.table import ContactTable
 from usdksl.reports.override import CLEAN_COLOR, CONTACT_COLOR
 from usdksl.reading.scope import plan_shot
 

@@ -8,8 +8,9 @@ import pytest
 from click.testing import CliRunner
 
 from usdksl.cli.crosscheck import crosscheck
-from usdksl.crosscheck.shot import (ContactList, crosscheck_shot, default_mesh_pairs, parse_frames, points_at,
-                               read_contacts_csv)
+from usdksl.contacts.csv_file import read_contacts_csv
+from usdksl.contacts.table import ContactTable
+from usdksl.crosscheck.shot import crosscheck_shot, default_mesh_pairs, parse_frames, points_at
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.reading.loader import load_shot
 
@@ -51,9 +52,9 @@ def read_rows(path):
 
 def test_two_quads_crossing_give_exactly_their_face_pair_at_the_right_frames(falling_quad_shot):
     shot = load_shot(falling_quad_shot)
-    contacts = ContactList(np.array([7.5]), np.array([shot.meshes.index(shot.mesh("/World/Blade"))]),
-                           np.array([0]), np.array([shot.meshes.index(shot.mesh("/World/Floor"))]),
-                           np.array([0]))
+    contacts = ContactTable.from_rows(None, np.array([7.5]), np.array([shot.meshes.index(shot.mesh("/World/Blade"))]),
+                                      np.array([0]), np.array([shot.meshes.index(shot.mesh("/World/Floor"))]),
+                                      np.array([0]))
     result = crosscheck_shot(shot, frames="0:10:1", contacts=contacts)
     assert result.frames.tolist() == [float(t) for t in range(11)]
     assert result.time.tolist() == [8.0, 9.0, 10.0]
@@ -70,13 +71,14 @@ def test_two_quads_crossing_give_exactly_their_face_pair_at_the_right_frames(fal
 def test_a_late_or_missing_contact_is_a_disagreement(falling_quad_shot):
     shot = load_shot(falling_quad_shot)
     blade, floor = (shot.meshes.index(shot.mesh(p)) for p in ("/World/Blade", "/World/Floor"))
-    late = ContactList(np.array([9.5]), np.array([floor]), np.array([0]), np.array([blade]), np.array([0]))
+    late = ContactTable.from_rows(None, np.array([9.5]), np.array([floor]), np.array([0]), np.array([blade]),
+                                  np.array([0]))
     result = crosscheck_shot(shot, frames="0:10:1", contacts=late)
     assert result.violation.tolist() == [True, True, False]
     assert result.exit_code() == 3
     assert result.error_lines() == ["crosscheck: /World/Blade face 0 and /World/Floor face 0 intersect at time "
                                     "8.0 (and 1 later frame(s)) but has its first contact later, at time 9.5"]
-    empty = ContactList(*(np.zeros(0),) * 5)
+    empty = ContactTable.empty(None)
     result = crosscheck_shot(shot, contacts=empty)   # default frames: the shot's samples 0 and 10
     assert result.time.tolist() == [10.0] and result.exit_code() == 3
     assert "has no contact" in result.error_lines()[0]
@@ -100,14 +102,14 @@ def face_rows(result):
 
 def test_sheet_pierced_inside_one_face(shot_writer):
     path = pierced_sheet_shot(shot_writer, [[0.30, 0.30, -0.2], [0.45, 0.30, -0.2], [0.375, 0.45, 0.3]])
-    result = crosscheck_shot(load_shot(path), contacts=ContactList(*(np.zeros(0),) * 5))
+    result = crosscheck_shot(load_shot(path), contacts=ContactTable.empty(None))
     assert face_rows(result) == [(1.0, "/World/Sheet", 5, "/World/Spike", 0),
                                  (2.0, "/World/Sheet", 5, "/World/Spike", 0)]
 
 
 def test_sheet_pierced_across_a_shared_edge_reports_both_faces(shot_writer):
     path = pierced_sheet_shot(shot_writer, [[0.15, 0.30, -0.2], [0.45, 0.30, -0.2], [0.30, 0.45, 0.3]])
-    result = crosscheck_shot(load_shot(path), frames=[1.0], contacts=ContactList(*(np.zeros(0),) * 5))
+    result = crosscheck_shot(load_shot(path), frames=[1.0], contacts=ContactTable.empty(None))
     assert face_rows(result) == [(1.0, "/World/Sheet", 4, "/World/Spike", 0),
                                  (1.0, "/World/Sheet", 5, "/World/Spike", 0)]
 
@@ -115,9 +117,9 @@ def test_sheet_pierced_across_a_shared_edge_reports_both_faces(shot_writer):
 def test_touching_and_coplanar_frames_report_nothing(shot_writer):
     # the spike's tip rests exactly on the sheet; then a coplanar triangle lying in the sheet
     touching = pierced_sheet_shot(shot_writer, [[0.30, 0.30, 0.0], [0.45, 0.30, 0.5], [0.375, 0.45, 0.5]])
-    assert len(crosscheck_shot(load_shot(touching), contacts=ContactList(*(np.zeros(0),) * 5)).time) == 0
+    assert len(crosscheck_shot(load_shot(touching), contacts=ContactTable.empty(None)).time) == 0
     coplanar = pierced_sheet_shot(shot_writer, [[0.1, 0.1, 0.0], [0.9, 0.2, 0.0], [0.4, 0.8, 0.0]])
-    assert len(crosscheck_shot(load_shot(coplanar), contacts=ContactList(*(np.zeros(0),) * 5)).time) == 0
+    assert len(crosscheck_shot(load_shot(coplanar), contacts=ContactTable.empty(None)).time) == 0
 
 
 def test_self_intersection_rows_order_faces_and_skip_same_face(shot_writer):
@@ -129,7 +131,7 @@ def test_self_intersection_rows_order_faces_and_skip_same_face(shot_writer):
     points = np.array(flat + upright + pentagon, float)
     mesh = {"path": "/Cloth", "samples": {0: points, 1: points + [0, 0, 1e-3]}, "counts": [4, 4, 5],
             "indices": list(range(13))}
-    result = crosscheck_shot(load_shot(shot_writer("self.usda", [mesh])), contacts=ContactList(*(np.zeros(0),) * 5))
+    result = crosscheck_shot(load_shot(shot_writer("self.usda", [mesh])), contacts=ContactTable.empty(None))
     assert face_rows(result) == [(0.0, "/Cloth", 0, "/Cloth", 1), (1.0, "/Cloth", 0, "/Cloth", 1)]
 
 
@@ -187,12 +189,15 @@ def test_contacts_csv_reader_maps_prims_and_rejects_bad_faces(falling_quad_shot,
     shot = load_shot(falling_quad_shot)
     good = write_contacts(tmp_path / "c.csv", [["7.5", "/World/Blade", 0, "/World/Floor", 0, "inter"],
                                                ["3.0", "/Elsewhere", 1, "/World/Floor", 0, "inter"]])
-    contacts = read_contacts_csv(good, shot.meshes)
-    assert contacts.time.tolist() == [7.5] and contacts.ignored_rows == 1
-    assert shot.meshes[contacts.mesh_a[0]].path == "/World/Blade"
+    paths, face_counts = [mesh.path for mesh in shot.meshes], [mesh.face_count for mesh in shot.meshes]
+    contacts = read_contacts_csv(good, paths, face_counts, skip_unknown_prims=True)
+    assert contacts.table.time.tolist() == [7.5] and contacts.ignored_rows == 1
+    assert shot.meshes[contacts.table.mesh_a[0]].path == "/World/Blade"
+    with pytest.raises(UsdkslInputError, match="row 3: prim '/Elsewhere' is not a mesh of the shot"):
+        read_contacts_csv(good, paths, face_counts)
     bad = write_contacts(tmp_path / "b.csv", [["7.5", "/World/Blade", 1, "/World/Floor", 0, "inter"]])
     with pytest.raises(UsdkslInputError, match="face_a 1 is out of range"):
-        read_contacts_csv(bad, shot.meshes)
+        read_contacts_csv(bad, paths, face_counts, skip_unknown_prims=True)
 
 
 def test_frames_parsing():

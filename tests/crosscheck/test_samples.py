@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 from brute_force import brute_force_pairs
-from usdksl.crosscheck.shot import ContactList, _pair_matrix, crosscheck_shot, points_at, scoped_mesh_pairs
+from usdksl.contacts.table import ContactTable
+from usdksl.crosscheck.shot import _pair_matrix, crosscheck_shot, points_at, scoped_mesh_pairs
 from usdksl.crosscheck.embree_frames import FrameTopology
 from usdksl.reading.loader import load_shot
 
-NO_CONTACTS = ContactList(*(np.zeros(0),) * 5)
+NO_CONTACTS = ContactTable.empty(None)
 
 # sample -> (frames checked against the (slow) oracle: the first, one before contact and those with
 # intersections; meshes whose pairs intersect there)

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from usdksl.baseline import Baseline, compare, read_baseline
+from usdksl.contacts.baseline import Baseline, compare, read_baseline
 from usdksl.cli.main import main
-from usdksl.contacts import ContactTable
+from usdksl.contacts.table import ContactTable
 
 from builders import snapshot
 

@@ -8,7 +8,7 @@ from pxr import Sdf, Usd, UsdGeom, Vt
 
 from usdksl.reading.loader import load_shot
 from usdksl.reports.override import CLEAN_COLOR, CONTACT_COLOR, REVIEW_MATERIAL, REVIEW_SCOPE, build_override_layer, face_first_contact_times, relative_sublayer_path
-from usdksl.contacts import ContactTable
+from usdksl.contacts.table import ContactTable
 
 from builders import STRIP_COUNTS, STRIP_INDICES, STRIP_POINTS, add_mesh, new_stage, sha256
 from .test_reports import contacts

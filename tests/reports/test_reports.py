@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from usdksl.clock import StageClock
-from usdksl.contacts import ContactTable, canonical_first_contacts, path_rank
-from usdksl.reports.formats import contacts_csv, format_times, json_report, summary_csv, summary_line
+from usdksl.contacts.csv_file import contacts_csv, format_times
+from usdksl.contacts.table import ContactTable, canonical_first_contacts, path_rank
+from usdksl.reports.formats import json_report, summary_csv, summary_line
 from usdksl.reports.junit import junit_report
 
 from junit_schema import assert_valid_junit

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import _native
 from ..ccd_defaults import DEFAULT_MAX_ITERATIONS, DEFAULT_THICKNESS, DEFAULT_TOLERANCE
-from ..contacts import ContactTable
+from ..contacts.table import ContactTable
 
 #: Broad phases of the core: kinetic separation lists, the swept-volume BVH baseline, per-sample
 #: (discrete) checks, and all pairs (the brute-force reference).
@@ -96,9 +96,10 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
         (np.ascontiguousarray(m.times, dtype=np.float64), np.ascontiguousarray(m.points, dtype=np.float64),
          np.ascontiguousarray(m.triangles, dtype=np.int32), np.ascontiguousarray(m.triangle_face, dtype=np.int32))
         for m in meshes]
-    raw = _native.find_contacts(native_meshes, pair_array, method, t_begin, t_end, float(tolerance),
-                                float(thickness), int(max_iterations), int(discrete_substeps), progress,
-                                int(threads))
+    options = _native.CheckOptions(method=method, t_begin=t_begin, t_end=t_end, tolerance=float(tolerance),
+                                   thickness=float(thickness), max_iterations=int(max_iterations),
+                                   discrete_substeps=int(discrete_substeps), threads=int(threads))
+    raw = _native.find_contacts(native_meshes, pair_array, options, progress)
     time = raw["time"]
     columns = {name: raw[name] for name in ("mesh_a", "tri_a", "mesh_b", "tri_b", "feature", "undecided")}
     # The core returns its rows in _row_order already; only times it clamps to the range start (the

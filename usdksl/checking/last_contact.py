@@ -20,7 +20,7 @@ from typing import Callable, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..contacts import ContactTable, match_face_pairs
+from ..contacts.table import ContactTable, match_face_pairs
 from .collision import find_contacts
 
 TimeRange = Tuple[float, float]

@@ -9,8 +9,11 @@ The frame test is one-sided by design: it reports only crossings that double pre
 clear margin (see :mod:`usdksl.crosscheck.segment_crossing`), so it never raises a false alarm; touching
 and grazing contacts are left to the continuous check.
 
-Face pairs follow the contacts.csv conventions: inter rows have ``prim_a < prim_b``, self rows
-``face_a < face_b``; rows sort by time, prim_a, face_a, prim_b, face_b; times print with ``repr(float)``.
+Face pairs follow the contacts.csv conventions: the canonical orientation of usdksl.contacts.orientation
+(inter rows have ``prim_a < prim_b``, self rows ``face_a < face_b``); rows sort by time, prim_a, face_a,
+prim_b, face_b; times print with ``repr(float)``. The contacts held against the frames are a
+:class:`usdksl.contacts.table.ContactTable`, from the continuous check or read from a contacts.csv
+(usdksl.contacts.csv_file).
 """
 
 from __future__ import annotations
@@ -24,7 +27,10 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ..errors import UsdkslInputError, UsdkslUsageError
+from ..contacts.csv_file import read_contacts_csv
+from ..contacts.orientation import canonical_swap, swap_sides
+from ..contacts.table import ContactTable, path_rank
+from ..errors import UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
 from ..reading.meshes import DEFORMING, STATIC
 from ..reports.output import write_text_atomic
@@ -32,7 +38,8 @@ from ..reports.override import shot_stem
 from .embree_frames import FrameTopology, intersecting_triangle_pairs
 
 CROSSCHECK_HEADER = ("time", "prim_a", "face_a", "prim_b", "face_b")
-CONTACTS_REQUIRED_COLUMNS = ("time", "prim_a", "face_a", "prim_b", "face_b")
+#: What the result names as the source of contacts that the continuous check found in this run.
+CONTINUOUS_SOURCE = "continuous check"
 
 
 # --------------------------------------------------------------------------- frames
@@ -148,12 +155,14 @@ def _pair_matrix(pairs, mesh_count: int) -> np.ndarray:
 # --------------------------------------------------------------------------- face numbering
 
 class _FaceNumbering:
-    """Global face ids ordered by (prim path, face): canonical pair order is then (lower id, higher id)."""
+    """Global face ids ordered by (prim path, face): a face pair in canonical orientation is then (lower id,
+    higher id), and its key orders as canonical rows do."""
 
     def __init__(self, meshes):
         self.paths = [mesh.path for mesh in meshes]
-        order = sorted(range(len(meshes)), key=lambda index: self.paths[index])
-        self.rank_to_mesh = np.array(order, dtype=np.int64)
+        self.mesh_rank = path_rank(self.paths)
+        self.rank_to_mesh = np.argsort(self.mesh_rank).astype(np.int64)
+        order = self.rank_to_mesh.tolist()
         face_counts = np.array([meshes[index].face_count for index in order], dtype=np.int64)
         self.rank_offset = np.zeros(len(meshes) + 1, dtype=np.int64)
         self.rank_offset[1:] = np.cumsum(face_counts)
@@ -165,8 +174,12 @@ class _FaceNumbering:
         return self.mesh_offset[np.asarray(mesh, dtype=np.int64)] + np.asarray(face, dtype=np.int64)
 
     def pair_keys(self, mesh_a, face_a, mesh_b, face_b) -> np.ndarray:
-        first, second = self.global_ids(mesh_a, face_a), self.global_ids(mesh_b, face_b)
-        return np.minimum(first, second) * max(self.face_total, 1) + np.maximum(first, second)
+        """int64[C]: one key per face pair, whichever side comes first in the rows (the pair is put in
+        canonical orientation first)."""
+        mesh_a, mesh_b = np.asarray(mesh_a, dtype=np.int64), np.asarray(mesh_b, dtype=np.int64)
+        swap = canonical_swap(self.mesh_rank[mesh_a], face_a, self.mesh_rank[mesh_b], face_b)
+        first, second = swap_sides(swap, self.global_ids(mesh_a, face_a), self.global_ids(mesh_b, face_b))
+        return first * max(self.face_total, 1) + second
 
     def split(self, global_id: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         rank = np.searchsorted(self.rank_offset, global_id, side="right") - 1
@@ -177,105 +190,6 @@ class _FaceNumbering:
         mesh_a, face_a = self.split(keys // total)
         mesh_b, face_b = self.split(keys % total)
         return mesh_a, face_a, mesh_b, face_b
-
-
-# --------------------------------------------------------------------------- contacts
-
-@dataclass
-class ContactList:
-    """First contacts per face pair, as the cross-check reads them (mesh indices into the shot)."""
-
-    time: np.ndarray
-    mesh_a: np.ndarray
-    face_a: np.ndarray
-    mesh_b: np.ndarray
-    face_b: np.ndarray
-    source: str = "continuous check"
-    ignored_rows: int = 0   # rows naming prims that are not meshes of the loaded shot
-
-    def __len__(self) -> int:
-        return len(self.time)
-
-    @classmethod
-    def from_face_contacts(cls, contacts, source: str = "continuous check") -> "ContactList":
-        """From any object with arrays ``time, mesh_a, face_a, mesh_b, face_b`` (e.g. FaceContacts)."""
-        return cls(np.asarray(contacts.time, dtype=np.float64), np.asarray(contacts.mesh_a, dtype=np.int64),
-                   np.asarray(contacts.face_a, dtype=np.int64), np.asarray(contacts.mesh_b, dtype=np.int64),
-                   np.asarray(contacts.face_b, dtype=np.int64), source)
-
-
-def read_contacts_csv(path: Union[str, os.PathLike], meshes) -> ContactList:
-    """Parse a contacts.csv (``time,prim_a,face_a,prim_b,face_b,...``) against the shot's meshes.
-
-    Rows naming prims that are not meshes of the shot are counted and ignored (the shot may have been
-    scoped differently); anything malformed raises UsdkslInputError naming the file and row.
-    """
-    name = str(path)
-    try:
-        with open(path, newline="", encoding="utf-8") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        reason = getattr(error, "strerror", None) or str(error)
-        raise UsdkslInputError(f"cannot read contacts: {reason}", file=name) from None
-    if not rows:
-        raise UsdkslInputError("contacts file is empty (no header)", file=name)
-    header = [column.strip() for column in rows[0]]
-    missing = [column for column in CONTACTS_REQUIRED_COLUMNS if column not in header]
-    if missing:
-        raise UsdkslInputError(f"contacts header lacks column(s) {', '.join(missing)}", file=name)
-    body = [row for row in rows[1:] if row]
-    width = len(header)
-    short = [number for number, row in enumerate(body, start=2) if len(row) < width]
-    if short:
-        raise UsdkslInputError(f"row {short[0]}: expected {width} columns", file=name)
-    table = np.array([row[:width] for row in body], dtype=object).reshape(len(body), width)
-    column = {column_name: table[:, header.index(column_name)] for column_name in CONTACTS_REQUIRED_COLUMNS}
-
-    def numbers(column_name, dtype):
-        try:
-            values = np.array(column[column_name], dtype=np.float64)
-        except ValueError:
-            bad = next(i for i, text in enumerate(column[column_name]) if not _is_number(text))
-            raise UsdkslInputError(f"row {bad + 2}: {column_name} '{column[column_name][bad]}' is not a number",
-                                   file=name) from None
-        if dtype is np.int64:
-            bad = np.flatnonzero((values != np.round(values)) | (values < 0) | ~np.isfinite(values))
-            if len(bad):
-                raise UsdkslInputError(f"row {bad[0] + 2}: {column_name} '{column[column_name][bad[0]]}' is not a "
-                                       f"face index", file=name)
-            return values.astype(np.int64)
-        bad = np.flatnonzero(~np.isfinite(values))
-        if len(bad):
-            raise UsdkslInputError(f"row {bad[0] + 2}: {column_name} is not finite", file=name)
-        return values
-
-    time = numbers("time", np.float64)
-    face_a, face_b = numbers("face_a", np.int64), numbers("face_b", np.int64)
-    index_of = {mesh.path: index for index, mesh in enumerate(meshes)}
-    names, inverse = np.unique(np.concatenate([column["prim_a"], column["prim_b"]]).astype(str),
-                               return_inverse=True)
-    lookup = np.array([index_of.get(str(prim), -1) for prim in names], dtype=np.int64)
-    mesh_both = lookup[inverse] if len(names) else np.zeros(0, dtype=np.int64)
-    mesh_a, mesh_b = mesh_both[:len(body)], mesh_both[len(body):]
-    known = (mesh_a >= 0) & (mesh_b >= 0)
-    face_counts = np.array([mesh.face_count for mesh in meshes], dtype=np.int64)
-    for mesh_column, face_column, label in ((mesh_a, face_a, "face_a"), (mesh_b, face_b, "face_b")):
-        too_big = np.flatnonzero(known & (face_column >= face_counts[np.maximum(mesh_column, 0)]))
-        if len(too_big):
-            row = too_big[0]
-            raise UsdkslInputError(f"row {row + 2}: {label} {face_column[row]} is out of range "
-                                   f"({face_counts[mesh_column[row]]} faces)", file=name,
-                                   prim=meshes[mesh_column[row]].path)
-    return ContactList(time[known], mesh_a[known], face_a[known], mesh_b[known], face_b[known],
-                       source=name, ignored_rows=int(np.count_nonzero(~known)))
-
-
-def _is_number(text) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 # --------------------------------------------------------------------------- result
@@ -391,9 +305,10 @@ def intersecting_face_pairs(meshes, frames: np.ndarray, pairs=None, counters: Op
 
 
 def compare_with_contacts(meshes, frames: np.ndarray, row_time: np.ndarray, row_keys: np.ndarray,
-                          numbering: "_FaceNumbering", contacts: ContactList, counters: Dict[str, int]
-                          ) -> CrosscheckResult:
-    """Attach to every intersecting row its pair's first contact and flag rows with none at or before."""
+                          numbering: "_FaceNumbering", contacts: ContactTable, counters: Dict[str, int],
+                          contacts_source: str = CONTINUOUS_SOURCE) -> CrosscheckResult:
+    """Attach to every intersecting row its pair's first contact and flag rows with none at or before.
+    ``contacts_source``: what the result names as the contacts' origin (a file, or the continuous check)."""
     contact_keys = numbering.pair_keys(contacts.mesh_a, contacts.face_a, contacts.mesh_b, contacts.face_b)
     order = np.lexsort((contacts.time, contact_keys))
     contact_keys, contact_times = contact_keys[order], contacts.time[order]
@@ -408,7 +323,7 @@ def compare_with_contacts(meshes, frames: np.ndarray, row_time: np.ndarray, row_
     mesh_a, face_a, mesh_b, face_b = numbering.unpack(row_keys)
     return CrosscheckResult([mesh.path for mesh in meshes], np.asarray(frames, dtype=np.float64), row_time,
                             mesh_a, face_a, mesh_b, face_b, contact_time, violation, len(contacts),
-                            contacts.source, counters)
+                            contacts_source, counters)
 
 
 def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=None,
@@ -418,8 +333,10 @@ def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=Non
     ``frames``: None (every sample of ``shot.times`` inside ``time_range``), a ``--frames`` string, or a
     sequence of time codes. ``contacts``: None runs the continuous check
     (``usdksl.find_contacts(shot.meshes, pairs, time_range=..., **find_contacts_options)``);
-    otherwise a :class:`ContactList`, a FaceContacts-like object (arrays ``time, mesh_a, face_a, mesh_b,
-    face_b`` with mesh indices into ``shot.meshes``) or a path to a contacts.csv. ``pairs``: mesh index
+    otherwise a :class:`~usdksl.contacts.table.ContactTable` or another object with arrays ``time, mesh_a,
+    face_a, mesh_b, face_b`` (mesh indices into ``shot.meshes``), or a path to a contacts.csv, whose rows
+    naming prims that are not meshes of the shot are left out (counted as ``contacts_ignored_rows``) and
+    whose faces must lie inside their meshes (UsdkslInputError naming file and row). ``pairs``: mesh index
     pairs ((i, i) = self) the continuous check tests; None uses :func:`scoped_mesh_pairs` (what
     ``usdksl check`` tests with its default options).
     """
@@ -430,6 +347,7 @@ def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=Non
     frame_times = parse_frames(frames, shot_times)
     if pairs is None:
         pairs = scoped_mesh_pairs(shot, time_range)
+    source, ignored_rows = CONTINUOUS_SOURCE, 0
     if contacts is None:
         try:
             from ..checking.collision import find_contacts
@@ -437,15 +355,17 @@ def crosscheck_shot(shot, frames=None, contacts=None, pairs=None, time_range=Non
             raise UsdkslUsageError("the continuous check is not available in this build; "
                                    "give a contacts.csv with --contacts") from None
         result = find_contacts(meshes, pairs, time_range=time_range, **find_contacts_options)
-        contacts = ContactList.from_face_contacts(result.face_contacts(meshes))
+        contacts = result.face_contacts(meshes)
     elif isinstance(contacts, (str, os.PathLike)):
-        contacts = read_contacts_csv(contacts, meshes)
-    elif not isinstance(contacts, ContactList):
-        contacts = ContactList.from_face_contacts(contacts)
+        read = read_contacts_csv(contacts, [mesh.path for mesh in meshes], [mesh.face_count for mesh in meshes],
+                                 skip_unknown_prims=True)
+        contacts, source, ignored_rows = read.table, read.source, read.ignored_rows
+    elif not isinstance(contacts, ContactTable):
+        contacts = ContactTable.from_face_contacts(contacts, [mesh.path for mesh in meshes])
     counters: Dict[str, int] = {}
     row_time, row_keys, numbering = intersecting_face_pairs(meshes, frame_times, pairs, counters)
-    counters["contacts_ignored_rows"] = contacts.ignored_rows
-    return compare_with_contacts(meshes, frame_times, row_time, row_keys, numbering, contacts, counters)
+    counters["contacts_ignored_rows"] = ignored_rows
+    return compare_with_contacts(meshes, frame_times, row_time, row_keys, numbering, contacts, counters, source)
 
 
 # --------------------------------------------------------------------------- output

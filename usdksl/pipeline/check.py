@@ -15,13 +15,14 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..baseline import Baseline, BaselineComparison, compare
 from ..checking.collision import default_threads, find_contacts
 from ..clock import StageClock
-from ..contacts import ContactTable
+from ..contacts.baseline import Baseline, BaselineComparison, compare
+from ..contacts.table import ContactTable
 from ..errors import UsdkslInputError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
 from ..reading.interpolation import reject_spline_motion
+from ..reading.loader import find_mesh_sources
 from ..reading.scope import (PAIR_RIGID_ONLY, PAIR_SELF_RIGID, PAIR_SELF_STATIC, PAIR_STATIC_STATIC, Plan, ScopeOptions,
                              include_predicate, merge_plans, plan_shot)
 from ..reports.formats import mesh_pair_lines
@@ -29,7 +30,7 @@ from ..warning_kinds import EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_S
 from .coverage import shot_coverage
 from .files import OutputTargets, concatenate_pieces, render_files
 from .loading import PlannedShot, checked_span, load_segments, report_blowups, require_samples_in_range
-from .memory_budget import check_memory, memory_limit, scan_shot
+from .memory_budget import check_memory, memory_limit, sources_size
 from .messages import ERROR, INFO, PLAN, RESULT, WARNING, Message, message_collector
 from .options import CheckOptions, TimeRange
 from .progress import Progress
@@ -55,7 +56,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
                baseline: Optional[Baseline] = None) -> CheckResult:
     """Check ``shot`` (a USD file) and render its reports; write nothing.
 
-    ``baseline`` (usdksl.baseline): contacts it knows do not count for the exit code; the
+    ``baseline`` (usdksl.contacts.baseline): contacts it knows do not count for the exit code; the
     reports mark each contact new or known and list the entries that no longer occur.
 
     ``name`` is how reports and messages name the shot (default: ``shot``; a Dask worker reads an absolute
@@ -68,7 +69,6 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     """
     started = time.monotonic()
     name = name or shot
-    options.validate()
     targets = targets or OutputTargets(out_dir=Path(shot).resolve().parent)
     messages: List[Message] = []
     say = message_collector(messages, on_message)
@@ -114,13 +114,13 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
     in a time range where nothing moves, or with ``require_pairs`` False: a Dask window, planned whole later)."""
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
-    # its open stage makes the loader's open free
-    size = scan_shot(shot, options.time_range, predicate, skin_keys_only=options.skin_keys_only)
-    check_memory(size, options.method, memory_limit(options.memory_limit), file=name,
-                 threads=options.threads or default_threads())
-    segments, gaps = load_segments(shot, options.time_range, predicate, say, name, options.strict,
-                             allow_missing_assets=options.allow_missing_assets, skin_keys_only=options.skin_keys_only)
-    del size
+    # the one open of the stage and search for its meshes: counted for memory before any motion is read, then loaded
+    found = find_mesh_sources(shot, predicate, allow_missing_assets=options.allow_missing_assets,
+                              skin_keys_only=options.skin_keys_only)
+    check_memory(sources_size(found, options.time_range), options.method, memory_limit(options.memory_limit),
+                 file=name, threads=options.threads or default_threads())
+    segments, gaps = load_segments(found, options.time_range, say, name, options.strict)
+    del found   # its instancers' cached transforms (instances x samples matrices) are not needed past loading
     require_samples_in_range(segments[0][1], options.time_range, name)
     for warning in dict.fromkeys(w for _, segment in segments for w in segment.warnings):
         say(WARNING, warning)
@@ -186,8 +186,8 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
             exit_code = CROSSCHECK_DISAGREES
     findings = [{"level": message.level, "kind": message.kind, "text": message.text} for message in messages
                 if message.level in (WARNING, ERROR) or message.kind is not None]
-    files, stdout = render_files(shot, name, options, targets, planned.segments, plan, tables, exit_code, span,
-                                 crosscheck_text, comparison, planned.coverage, findings)
+    files, stdout = render_files(shot, name, options, targets, planned.segments, plan, tables, table, clock,
+                                 exit_code, span, crosscheck_text, comparison, planned.coverage, findings)
     return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,

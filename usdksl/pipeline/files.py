@@ -11,14 +11,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, Optional, Sequence, Tuple, Union
 
-from ..baseline import BaselineComparison
 from ..clock import StageClock
-from ..contacts import ContactTable
+from ..contacts.baseline import BaselineComparison
+from ..contacts.csv_file import contacts_csv
+from ..contacts.table import ContactTable
 from ..errors import UsdkslUsageError
 from ..reading.loader import open_stage
 from ..reading.scope import Plan
 from ..reading.segments import topology_epochs
-from ..reports.formats import contacts_csv, json_report, summary_csv
+from ..reports.formats import json_report, summary_csv
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import override_layer, override_layer_name, shot_stem
 from ..version import package_version
@@ -85,18 +86,17 @@ def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str
 
 
 def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
-                 tables: Sequence[ContactTable], exit_code: int, span: TimeRange,
-                 crosscheck_text: Optional[str] = None,
+                 tables: Sequence[ContactTable], table: ContactTable, clock: StageClock, exit_code: int,
+                 span: TimeRange, crosscheck_text: Optional[str] = None,
                  comparison: Optional[BaselineComparison] = None, coverage: Optional[Coverage] = None,
                  findings: Optional[list] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
     """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
     stdout or None), in write order.
 
     ``segments``: [(range, loaded Shot)] as :func:`usdksl.pipeline.loading.load_segments` gives them,
-    ``tables`` the contacts of each. A run over a time range (a farm chunk) also writes its manifest
+    ``tables`` the contacts of each, ``table`` all of them as one (:func:`concatenate_pieces`), ``clock``
+    the shot's (its stage metadata). A run over a time range (a farm chunk) also writes its manifest
     (usdksl.reports.manifest)."""
-    table = concatenate_pieces(segments, tables)
-    clock = StageClock.from_metadata(segments[0][1].metadata)
     files: Dict[Path, FileData] = {}
     known = None if comparison is None else comparison.known
     files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known)

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import UsdkslGapError, UsdkslInputError
 from ..reading.blowups import describe_blowups, describe_glitches, shot_faults
-from ..reading.loader import load_shot, mesh_prims, open_stage
+from ..reading.loader import MeshSources, load_sources
 from ..reading.scope import Plan
 from ..reading.segments import absent_meshes, cut_range, full_range, is_topology_change, mesh_gaps, mesh_stretches
 from ..warning_kinds import BLOW_UP, CACHE_GLITCH
@@ -78,25 +78,23 @@ def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[...
             say(WARNING, line, BLOW_UP)
 
 
-def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Callable[..., None],
-                  name: Optional[str] = None, strict: bool = False, allow_missing_assets: bool = False,
-                  skin_keys_only: bool = False):
-    """([(range, Shot)], gaps): the whole shot, or, when a mesh cannot be followed across some samples (a topology
-    change, an empty or blocked points sample), one Shot per piece of the range cut at every such gap
-    (usdksl.reading.segments), the meshes a gap covers loaded still and left out there. Warns once per gap (an
-    input error under ``strict``: the gap is not checked); ``range`` is None when the whole shot is checked
-    without a time range. ``gaps``: usdksl.reading.segments.Gap of every mesh that has them."""
-    name = name or shot
-    options = dict(include=predicate, allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only)
+def load_segments(found: MeshSources, time_range: Optional[TimeRange], say: Callable[..., None],
+                  name: Optional[str] = None, strict: bool = False):
+    """([(range, Shot)], gaps): the shot whose stage and meshes are ``found``
+    (usdksl.reading.loader.find_mesh_sources) loaded whole, or, when a mesh cannot be followed across some
+    samples (a topology change, an empty or blocked points sample), one Shot per piece of the range cut at every
+    such gap (usdksl.reading.segments), the meshes a gap covers loaded still and left out there; every piece
+    from the same open stage and sources. Warns once per gap (an input error under ``strict``: the gap is not
+    checked); ``range`` is None when the whole shot is checked without a time range. ``gaps``:
+    usdksl.reading.segments.Gap of every mesh that has them."""
+    name = name or found.file
     try:
-        return [(time_range, load_shot(shot, time_range=time_range, **options))], []
+        return [(time_range, load_sources(found, time_range))], []
     except (UsdkslGapError, UsdkslInputError) as error:
         if not (isinstance(error, UsdkslGapError) or is_topology_change(error)):
             raise
         first_error = error
-    stage = open_stage(shot)
-    prims = mesh_prims(stage, predicate)
-    stretches = {str(prim.GetPath()): mesh_stretches(prim) for prim in prims}
+    stretches = {str(prim.GetPath()): mesh_stretches(prim) for prim in found.prims}
     full = full_range((np.array([s.first for s in found] + [s.last for s in found]) for found in stretches.values()),
                       time_range)
     gaps = [gap for path, found in stretches.items() for gap in mesh_gaps(path, found)
@@ -117,5 +115,5 @@ def load_segments(shot: str, time_range: Optional[TimeRange], predicate, say: Ca
     pieces = cut_range(full, gaps)
     if len(pieces) > 1:
         say(INFO, f"checking {len(pieces)} segments cut at those gaps: " + ", ".join(f"{a:g}..{b:g}" for a, b in pieces))
-    return [(piece, load_shot(shot, time_range=piece, absent=absent_meshes(piece, gaps, stretches), **options))
+    return [(piece, load_sources(found, piece, absent=absent_meshes(piece, gaps, stretches)))
             for piece in pieces], gaps

@@ -1,8 +1,10 @@
 """Memory a check needs, known before it starts, against the memory the machine has: refuse rather than swap.
 
-:func:`scan_shot` counts what a check will hold without loading any motion: per mesh its vertices, its
-triangles and its time samples in the checked range (one sample of points and the face counts are
-read; the stage it opens stays open, so the loader that follows reuses its layers for free).
+:func:`sources_size` counts what a check will hold without loading any motion: per mesh its vertices, its
+triangles and its time samples in the checked range (one sample of points and the face counts are read),
+from the mesh sources the loader found on the check's one open stage
+(:func:`usdksl.reading.loader.find_mesh_sources`), which it then loads. :func:`scan_shot` opens a file and
+counts the same on its own, reading past whatever the loader would refuse.
 :func:`estimated_bytes` turns the counts into bytes with a model calibrated against measured peak RSS
 (``python benchmarks/memory_model.py`` measures and fits it again):
 
@@ -27,8 +29,8 @@ from __future__ import annotations
 import math
 import os
 import re
-from dataclasses import dataclass, field
-from typing import Callable, Optional, Tuple, Union
+from dataclasses import dataclass
+from typing import Callable, Iterable, Optional, Tuple, Union
 
 import numpy as np
 
@@ -63,13 +65,12 @@ TimeRange = Tuple[float, float]
 @dataclass
 class ShotSize:
     """What a check holds, counted before loading: meshes, vertices x samples, triangles; the checked
-    span in time codes (None when the shot has no samples); ``stage`` kept open for the loader."""
+    span in time codes (None when the shot has no samples)."""
 
     meshes: int = 0
     vertex_samples: int = 0
     triangles: int = 0
     span: Optional[TimeRange] = None
-    stage: object = field(default=None, repr=False)
 
 
 def parse_memory_size(text: Union[str, int, None]) -> Optional[int]:
@@ -147,33 +148,50 @@ def memory_limit(option: Union[str, int, None] = None,
 
 # --------------------------------------------------------------------------- what is needed
 
+def sources_size(found, time_range: Optional[TimeRange] = None) -> ShotSize:
+    """Count the meshes of ``found`` (usdksl.reading.loader.MeshSources) that ``load_sources(found,
+    time_range)`` will load: each authored UsdGeom.Mesh prim (a skinned one at the samples it is posed at)
+    with the sample times found with it (the instances of a PointInstancer's prototypes are not counted, as
+    :func:`scan_shot` does not count them). Reads one sample of points and the face counts of each; whatever
+    cannot be read is left out of the count (the loader then reports it)."""
+    return _count_meshes(zip(found.prims, found.sample_times), time_range)
+
+
 def scan_shot(path: str, time_range: Optional[TimeRange] = None, include=None,
               skin_keys_only: bool = False) -> ShotSize:
-    """Count the meshes ``load_shot(path, time_range, include, skin_keys_only=skin_keys_only)`` would load:
-    a skinned mesh counts the samples it is posed at, the frames between sparse keys included unless
-    ``skin_keys_only`` (usdksl.reading.skinning). Reads one sample of points and the face counts of each
-    mesh; whatever cannot be read is left out of the count (the loader then reports it). Raises
+    """Count the meshes ``load_shot(path, time_range, include, skin_keys_only=skin_keys_only)`` would load,
+    as :func:`sources_size` does, with a stage of its own: a skinned mesh counts the samples it is posed at,
+    the frames between sparse keys included unless ``skin_keys_only`` (usdksl.reading.skinning). Raises
     UsdkslInputError only when the file cannot be opened."""
-    from pxr import UsdGeom
-
     from ..reading.loader import _skinned_meshes, mesh_prims, mesh_sample_times, open_stage
 
     stage = open_stage(path)
-    size = ShotSize(stage=stage)
     try:
         prims = mesh_prims(stage, include)
     except Exception:   # noqa: BLE001  (an estimate: the loader reports what is wrong)
-        return size
+        return ShotSize()
     try:
         skinned = _skinned_meshes(stage, skin_keys_only)
     except Exception:   # noqa: BLE001  (counted by their authored samples; the loader reports what is wrong)
         skinned = {}
+
+    def sample_times(prim) -> Callable[[], np.ndarray]:
+        posed = skinned.get(str(prim.GetPath()))
+        return posed.sample_times if posed is not None else lambda: mesh_sample_times(prim)
+
+    return _count_meshes(((prim, sample_times(prim)) for prim in prims), time_range)
+
+
+def _count_meshes(meshes: Iterable, time_range: Optional[TimeRange]) -> ShotSize:
+    """ShotSize of (UsdGeom.Mesh prim, its sample times: float64[K] or a callable giving them) pairs."""
+    from pxr import UsdGeom
+
+    size = ShotSize()
     starts, ends = [], []
-    for prim in prims:
+    for prim, times in meshes:
         try:
             mesh = UsdGeom.Mesh(prim)
-            posed = skinned.get(str(prim.GetPath()))
-            times = posed.sample_times() if posed is not None else mesh_sample_times(prim)
+            times = times() if callable(times) else times
             first = float(times[0]) if times.size else (time_range[0] if time_range else 0.0)
             points = mesh.GetPointsAttr().Get(first)
             # a value USD could not parse as its type comes back as an opaque object: counted as nothing

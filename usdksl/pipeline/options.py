@@ -17,7 +17,8 @@ TimeRange = Tuple[float, float]
 @dataclass(frozen=True)
 class CheckOptions:
     """What ``usdksl check`` is asked to do, without the output locations. Times in USD time codes;
-    ``tolerance`` a fraction of one sample interval; ``thickness`` in scene units."""
+    ``tolerance`` a fraction of one sample interval; ``thickness`` in scene units. A value the check cannot
+    use raises UsdkslUsageError (exit 2) here, at construction, so nothing past it checks again."""
 
     method: str = "ksl"
     tolerance: float = DEFAULT_TOLERANCE
@@ -51,8 +52,11 @@ class CheckOptions:
     #: where the keys are sparser (as UsdSkel.BakeSkinning bakes them).
     skin_keys_only: bool = False
 
+    def __post_init__(self) -> None:
+        self.validate()
+
     def validate(self) -> None:
-        """Raise UsdkslUsageError (exit 2) on a value the check cannot use."""
+        """Raise UsdkslUsageError (exit 2) on a value the check cannot use (done at construction)."""
         parse_memory_size(self.memory_limit)
         if self.method not in METHODS:
             raise UsdkslUsageError(f"--method must be one of {', '.join(METHODS)}, got {self.method!r}")

@@ -6,9 +6,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
-from ..baseline import BaselineComparison
 from ..clock import StageClock
-from ..contacts import ContactTable
+from ..contacts.baseline import BaselineComparison
+from ..contacts.table import ContactTable
 from ..reading.scope import Plan
 from ..reports.formats import summary_line
 from .coverage import Coverage

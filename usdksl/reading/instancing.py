@@ -174,6 +174,12 @@ class Instancer:
             visible |= mask if mask.size == visible.size else True   # no mask (or a malformed one): visible
         return np.flatnonzero(visible & (indices == prototype_index))
 
+    def start_load(self, warnings: List[str]) -> None:
+        """Say what loading finds (velocities off the straight line) in ``warnings``, once per load: the
+        sources found on a stage are loaded once per piece of a shot cut at gaps (usdksl.pipeline.loading)."""
+        self.warnings = warnings
+        self._warned_velocity = False
+
     def warn_velocity_deviation(self, distance: float, start: float, end: float) -> None:
         if self._warned_velocity:
             return

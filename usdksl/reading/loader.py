@@ -21,6 +21,10 @@ Python loops over prims and time samples only; points, faces and triangles are
 handled by numpy. The points of one mesh go straight into one preallocated
 ``float64[K, N, 3]`` array, so loading holds little more than the result.
 
+:func:`load_shot` opens the file and loads it. A check does it in two steps on one open stage:
+:func:`find_mesh_sources` opens it and finds the meshes and their sample times (what the memory estimate
+counts), :func:`load_sources` reads their points (once, or once per piece of a shot cut at gaps).
+
 The input file is opened read-only and never saved.
 """
 
@@ -29,7 +33,9 @@ from __future__ import annotations
 import fnmatch
 import os
 import re
-from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from pxr import Gf, Tf, Usd, UsdGeom
@@ -243,6 +249,45 @@ def _check_time_range(file: str, time_range) -> Optional[Tuple[float, float]]:
     return (start, end)
 
 
+@dataclass
+class MeshSources:
+    """A shot's stage, opened once, and what :func:`load_shot` loads from it, found once: the memory estimate
+    (usdksl.pipeline.memory_budget) counts these sources before any motion is read, and :func:`load_sources`
+    loads them, once or once per piece of a shot cut at gaps (usdksl.pipeline.loading)."""
+
+    file: str
+    stage: Usd.Stage
+    metadata: Dict[str, object]
+    #: The authored UsdGeom.Mesh prims (:func:`mesh_prims`), in order: the first ``len(prims)`` sources.
+    prims: List[Usd.Prim]
+    #: A skinned, authored or instanced mesh each, with ``sample_times()`` and ``load()``.
+    sources: list
+    #: float64[K_i] per source: the time codes at which it has a sample, sorted (empty for a still one).
+    sample_times: List[np.ndarray]
+    #: What was found unchecked on the stage (unresolved assets, nested instancers, solid non-meshes) with
+    #: a warning line each; every load starts from a copy of both.
+    unchecked: List[UncheckedGeometry]
+    warnings: List[str]
+
+
+def find_mesh_sources(path: Union[str, os.PathLike], include: IncludeFilter = None,
+                      allow_missing_assets: bool = False, skin_keys_only: bool = False) -> MeshSources:
+    """Open ``path`` and find the meshes :func:`load_shot` would load (``include``, ``allow_missing_assets``,
+    ``skin_keys_only`` as there) with their sample times, reading no points. Raises
+    :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input."""
+    file = os.fspath(path)
+    with _errors_name_file(file):
+        return _find_mesh_sources(file, include, allow_missing_assets, skin_keys_only)
+
+
+def load_sources(found: MeshSources, time_range: Optional[Tuple[float, float]] = None,
+                 absent: Optional[Dict[str, float]] = None) -> Shot:
+    """:func:`load_shot` of the stage and sources ``found`` already (``time_range``, ``absent`` as there):
+    no second open of the stage, no second search for its meshes."""
+    with _errors_name_file(found.file):
+        return _load_sources(found, _check_time_range(found.file, time_range), absent or {})
+
+
 def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, float]] = None,
               include: IncludeFilter = None, allow_missing_assets: bool = False,
               skin_keys_only: bool = False, absent: Optional[Dict[str, float]] = None) -> Shot:
@@ -258,21 +303,27 @@ def load_shot(path: Union[str, os.PathLike], time_range: Optional[Tuple[float, f
     :class:`usdksl.errors.UsdkslGapError` when a mesh has empty or blocked samples between samples with points.
     """
     file = os.fspath(path)
+    with _errors_name_file(file):
+        time_range = _check_time_range(file, time_range)
+        found = _find_mesh_sources(file, include, allow_missing_assets, skin_keys_only)
+        return _load_sources(found, time_range, absent or {})
+
+
+@contextmanager
+def _errors_name_file(file: str) -> Iterator[None]:
+    """Readers below the loader know the prim but not the file: their input errors get ``file``."""
     try:
-        return _load_shot(file, time_range, include, allow_missing_assets, skin_keys_only, absent or {})
-    except UsdkslInputError as error:   # readers below the loader know the prim but not the file
+        yield
+    except UsdkslInputError as error:
         if error.file:
             raise
         raise type(error)(error.message, file=file, prim=error.prim, time=error.time) from None
 
 
-def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: IncludeFilter,
-               allow_missing_assets: bool = False, skin_keys_only: bool = False,
-               absent: Optional[Dict[str, float]] = None) -> Shot:
-    from . import layer_rates   # it builds on this module
+def _find_mesh_sources(file: str, include: IncludeFilter, allow_missing_assets: bool = False,
+                       skin_keys_only: bool = False) -> MeshSources:
     from . import composition
 
-    time_range = _check_time_range(file, time_range)
     stage = open_stage(file)
     missing = composition.unresolved_assets(stage)   # composed without them, a contact with them goes unseen
     if missing and not allow_missing_assets:
@@ -283,13 +334,28 @@ def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: In
         for asset in missing]
     warnings: List[str] = [f"{file}: {item.prim}: {item.reason}" for item in unchecked]
     try:
-        sources = _mesh_sources(stage, include, file, warnings, unchecked, skin_keys_only)
+        prims, sources = _mesh_sources(stage, include, file, warnings, unchecked, skin_keys_only)
     except UsdkslInputError as error:
         if not missing:
             raise
         raise type(error)(f"{error.message} ({composition.summary(missing)})", file=error.file or file,
                           prim=error.prim, time=error.time) from None
-    sample_times = _source_sample_times(sources, file)
+    return MeshSources(file=file, stage=stage, metadata=metadata, prims=prims, sources=sources,
+                       sample_times=_source_sample_times(sources, file), unchecked=unchecked, warnings=warnings)
+
+
+def _load_sources(found: MeshSources, time_range: Optional[Tuple[float, float]],
+                  absent: Dict[str, float]) -> Shot:
+    from . import layer_rates   # it builds on this module
+
+    file, stage, metadata, sources = found.file, found.stage, found.metadata, found.sources
+    unchecked = list(found.unchecked)
+    warnings = list(found.warnings)
+    for source in sources:   # an instancer warns while it loads: into this load's lines, once per load
+        instancer = getattr(source, "instancer", None)
+        if instancer is not None:
+            instancer.start_load(warnings)
+    sample_times = found.sample_times
     per_mesh_times = [_window(times, time_range) for times in sample_times]
     animated = [times for times in per_mesh_times if times.size]
     if animated:
@@ -342,10 +408,12 @@ def _load_shot(file: str, time_range: Optional[Tuple[float, float]], include: In
 
 
 def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings: List[str],
-                  unchecked: Optional[List[UncheckedGeometry]] = None, skin_keys_only: bool = False) -> list:
-    """What load_shot loads, in its order: a skinned mesh, an authored mesh or a PointInstancer's
-    prototype mesh, each with ``sample_times()`` and ``load()``. Geometry read past without a check
-    (nested instancers, solid non-meshes) goes to ``unchecked``, each with a line in ``warnings``.
+                  unchecked: Optional[List[UncheckedGeometry]] = None,
+                  skin_keys_only: bool = False) -> Tuple[List[Usd.Prim], list]:
+    """(the authored mesh prims, what load_shot loads): in its order a skinned mesh, an authored mesh or a
+    PointInstancer's prototype mesh, each with ``sample_times()`` and ``load()``, the first ones one per prim.
+    Geometry read past without a check (nested instancers, solid non-meshes) goes to ``unchecked``, each with a
+    line in ``warnings``.
     ``skin_keys_only``: skinned meshes are posed at their keys only (:mod:`usdksl.reading.skinning`).
     Raises UsdkslInputError when there is nothing to load."""
     from . import instancing   # it builds on this module
@@ -367,7 +435,7 @@ def _mesh_sources(stage: Usd.Stage, include: IncludeFilter, file: str, warnings:
     if not sources:
         what = "no UsdGeom.Mesh prims" if include is None else "no UsdGeom.Mesh prims match the selection"
         raise UsdkslInputError(f"{what} on the stage", file=file)
-    return sources
+    return prims, sources
 
 
 #: The schema UsdSkel poses meshes under (UsdSkel.Root), named so that a stage can be searched for it before
@@ -417,7 +485,7 @@ def shot_sample_times(path: Union[str, os.PathLike], include: IncludeFilter = No
     never points, so it is cheap on any cache. Raises UsdkslInputError like load_shot."""
     file = os.fspath(path)
     stage = open_stage(file)   # held while the sources' prims are read: they die with it
-    return _source_sample_times(_mesh_sources(stage, include, file, [], skin_keys_only=skin_keys_only), file)
+    return _source_sample_times(_mesh_sources(stage, include, file, [], skin_keys_only=skin_keys_only)[1], file)
 
 
 def _sample_span(sample_times: Sequence[np.ndarray]) -> Optional[Tuple[float, float]]:

@@ -1,13 +1,9 @@
-"""The texts of a check's reports: contacts.csv, summary.csv and the --json document (JUnit: reports/junit.py).
+"""The texts of a check's reports: summary.csv and the --json document (contacts.csv:
+usdksl.contacts.csv_file; JUnit: reports/junit.py).
 
-Every text is rendered from a :class:`usdksl.contacts.ContactTable`, whose rows are already in canonical
-order (docs/contracts.md, Contacts). Times are written with ``repr(float)``, the shortest text that reads
-back to the same double, so two runs give byte-identical files.
+Every text is rendered from a :class:`usdksl.contacts.table.ContactTable`, whose rows are already in canonical
+order (docs/contracts.md, Contacts).
 
-contacts.csv  ``time,prim_a,face_a,prim_b,face_b,kind,feature,frame,seconds`` (the six contract columns,
-              the feature that touched first: vertex-face, face-vertex, edge-edge or initial, then the
-              time as a frame and in seconds on the stage's timeline, usdksl.clock); with last contacts
-              (``--last-contact``) also ``last_time,last_frame,last_seconds``.
 summary.csv   ``prim_a,prim_b,kind,first_contact_time,face_pairs,first_contact_frame,first_contact_seconds``
               (with last contacts also ``last_contact_time,last_contact_frame,last_contact_seconds``):
               one row per mesh pair that has contacts (clean pairs are not listed; the JUnit report and
@@ -17,61 +13,20 @@ summary.csv   ``prim_a,prim_b,kind,first_contact_time,face_pairs,first_contact_f
 from __future__ import annotations
 
 import json
-from typing import Optional, Sequence
+from typing import Optional
 
 import numpy as np
 
-from ..baseline import KNOWN, NEW, STATUS_COLUMN
 from ..clock import StageClock
-from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
+from ..contacts.csv_file import KNOWN, NEW, STATUS_COLUMN
+from ..contacts.table import ContactTable
 from ..reading.scope import PAIR_RIGID_ONLY
 
-CONTACT_COLUMNS = ("time", "prim_a", "face_a", "prim_b", "face_b", "kind", "feature", "frame", "seconds")
-LAST_CONTACT_COLUMNS = ("last_time", "last_frame", "last_seconds")
 SUMMARY_COLUMNS = ("prim_a", "prim_b", "kind", "first_contact_time", "face_pairs", "first_contact_frame",
                    "first_contact_seconds")
 SUMMARY_LAST_COLUMNS = ("last_contact_time", "last_contact_frame", "last_contact_seconds")
 #: summary.csv column with a baseline: face pairs of the mesh pair the baseline does not know.
 NEW_FACE_PAIRS = "new_face_pairs"
-
-
-def format_times(times: np.ndarray) -> np.ndarray:
-    """object[C] of repr(float) strings; repr runs once per distinct time, not once per row."""
-    times = np.asarray(times, dtype=np.float64)
-    if times.size == 0:
-        return np.zeros(0, dtype=object)
-    distinct, inverse = np.unique(times, return_inverse=True)
-    text = np.array(list(map(repr, distinct.tolist())), dtype=object)
-    return text[inverse.reshape(-1)]
-
-
-def _int_text(values: np.ndarray) -> np.ndarray:
-    # str() over a list of Python ints runs in C and takes under half the time of numpy's
-    # astype(str).astype(object) (2.4M face indices: 0.36 s against 0.83 s).
-    return np.array(list(map(str, np.asarray(values).astype(np.int64).tolist())), dtype=object)
-
-
-def contacts_csv(table: ContactTable, clock: StageClock, known: Optional[np.ndarray] = None) -> str:
-    """contacts.csv: the header, then one line per row of ``table`` (frames and seconds by ``clock``);
-    ``known`` (bool per row, from a baseline) adds the ``baseline`` column: new or known."""
-    with_last = table.last_time is not None
-    header = ",".join(CONTACT_COLUMNS + (LAST_CONTACT_COLUMNS if with_last else ())
-                      + ((STATUS_COLUMN,) if known is not None else ())) + "\n"
-    if table.count == 0:
-        return header
-    prim_a, prim_b = table.prim_names()
-    columns = [format_times(table.time), prim_a, _int_text(table.face_a), prim_b, _int_text(table.face_b),
-               table.kinds(), table.feature_names(), format_times(clock.frames(table.time)),
-               format_times(clock.seconds(table.time))]
-    if with_last:
-        columns += [format_times(table.last_time), format_times(clock.frames(table.last_time)),
-                    format_times(clock.seconds(table.last_time))]
-    if known is not None:
-        columns.append(np.where(known, KNOWN, NEW).astype(object))
-    # Columns are numpy object arrays; map/zip/join run in C (measured: 0.05 s for 100k rows, 3.5x
-    # faster than chained object-array additions), no Python code runs per row.
-    columns = [column.tolist() for column in columns]
-    return header + "\n".join(map(",".join, zip(*columns))) + "\n"
 
 
 def summary_rows(table: ContactTable, clock: StageClock, known: Optional[np.ndarray] = None) -> list:
@@ -202,47 +157,3 @@ def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds
     first_new = f", first new at {clock.describe(float(table.time[new[0]]))}" if new.size else ""
     return (f"usdksl: {new.size} new, {table.count - new.size} known{fixed_text}: {found}{first_new}; "
             f"{checked}")
-
-
-def read_contacts_table(path, paths) -> ContactTable:
-    """A contacts.csv written by usdksl read back as a table over the meshes ``paths`` (exact: times are
-    ``repr(float)``). Raises UsdkslInputError naming the file and row on anything else: another header,
-    a prim that is not among ``paths``, a face or feature that does not parse."""
-    import csv
-
-    from ..contacts import FEATURE_NAMES
-    from ..errors import UsdkslInputError
-
-    name = str(path)
-    try:
-        with open(path, newline="", encoding="utf-8") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        raise UsdkslInputError(f"cannot read contacts: {getattr(error, 'strerror', None) or error}",
-                               file=name) from None
-    if not rows or tuple(rows[0][:len(CONTACT_COLUMNS)]) != CONTACT_COLUMNS:
-        raise UsdkslInputError(f"not a usdksl contacts.csv (header {','.join(CONTACT_COLUMNS)} expected)",
-                               file=name)
-    width = len(rows[0])
-    body = np.array([row[:width] for row in rows[1:] if row], dtype=object).reshape(-1, width)
-    last_column = rows[0].index(LAST_CONTACT_COLUMNS[0]) if LAST_CONTACT_COLUMNS[0] in rows[0] else None
-
-    def codes(column: np.ndarray, vocabulary: Sequence[str]) -> np.ndarray:
-        # one dictionary look-up per distinct word, not per row
-        distinct, inverse = np.unique(column.astype(str), return_inverse=True)
-        index = {word: code for code, word in enumerate(vocabulary)}
-        return np.array([index[word] for word in distinct.tolist()], dtype=np.int64)[inverse.reshape(-1)]
-
-    try:
-        time = body[:, 0].astype(np.float64)
-        face_a, face_b = body[:, 2].astype(np.int64), body[:, 4].astype(np.int64)
-        mesh = codes(np.concatenate([body[:, 1], body[:, 3]]), list(paths)) if len(body) else np.zeros(0, np.int64)
-        feature = codes(body[:, 6], FEATURE_NAMES).astype(np.int8) if len(body) else np.zeros(0, np.int8)
-        last_time = None if last_column is None else body[:, last_column].astype(np.float64)
-    except (ValueError, KeyError) as error:
-        raise UsdkslInputError(f"unreadable row: {error}", file=name) from None
-    table = ContactTable.from_rows(paths, time, mesh[:len(body)], face_a, mesh[len(body):], face_b, feature)
-    if last_time is None:
-        return table
-    latest = latest_per_face_pair(paths, last_time, mesh[:len(body)], face_a, mesh[len(body):], face_b)
-    return table.with_last_times(latest.time[match_face_pairs(table, latest)[0]])

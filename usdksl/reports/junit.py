@@ -22,7 +22,7 @@ from xml.etree import ElementTree
 import numpy as np
 
 from ..clock import StageClock
-from ..contacts import ContactTable
+from ..contacts.table import ContactTable
 from .formats import NEW_FACE_PAIRS, summary_rows
 
 #: classname of the test case of a shot that could not be checked, and of one with nothing to check.

@@ -25,7 +25,7 @@ from typing import List, Optional, Tuple
 import numpy as np
 
 from ..clock import StageClock
-from ..contacts import ContactTable
+from ..contacts.table import ContactTable
 from ..errors import UsdkslUsageError
 
 #: Rows drawn at most; further mesh pairs are counted in a note.

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Dict, Iterable, List, Optional, Sequence
 
-from ..baseline import Baseline, baseline_for_shot
+from ..contacts.baseline import Baseline, baseline_for_shot
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERROR
 from ..pipeline.check import check_shot
@@ -39,7 +39,7 @@ class ShotJob:
     path: str
     name: str
     targets: OutputTargets
-    #: --baseline as given (absolute): a file, or a folder of <stem>.contacts.csv (usdksl.baseline).
+    #: --baseline as given (absolute): a file, or a folder of <stem>.contacts.csv (usdksl.contacts.baseline).
     baseline: Optional[str] = None
     #: --baseline-time-tolerance, time codes.
     baseline_time_tolerance: Optional[float] = None

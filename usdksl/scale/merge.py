@@ -4,7 +4,7 @@ one run over the union of their ranges writes.
 Each chunk folder holds the chunk's contacts.csv and its run manifest (usdksl.reports.manifest). Windows
 merge exactly: the first contact of a face pair over [a, c] is the earliest of its first contacts over
 [a, b] and [b, c] (docs/contracts.md, Windows and merging), which is what
-:func:`usdksl.contacts.canonical_first_contacts` keeps. Merging refuses (UsdkslUsageError, exit 2, one
+:func:`usdksl.contacts.table.canonical_first_contacts` keeps. Merging refuses (UsdkslUsageError, exit 2, one
 line) chunks that leave a gap, that overlap with different answers, that come from another shot (the
 root layer's SHA-256), another usdksl version, other settings or another set of checked mesh pairs,
 chunks cut between two time samples of a moving mesh (the chunk re-samples its motion there, so its
@@ -26,8 +26,9 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..baseline import Baseline
-from ..contacts import ContactTable, latest_per_face_pair, match_face_pairs
+from ..contacts.baseline import Baseline
+from ..contacts.csv_file import CONTACT_COLUMNS, read_contacts_csv
+from ..contacts.table import ContactTable, face_pair_ids, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
 from ..pipeline.check import conclude, load_and_plan
 from ..pipeline.files import OutputTargets
@@ -38,7 +39,6 @@ from ..pipeline.result import CheckResult
 from ..reading.loader import shot_sample_times
 from ..reading.meshes import STATIC
 from ..reading.scope import include_predicate
-from ..reports.formats import read_contacts_table
 from ..reports.manifest import checked_pairs, file_sha256, manifest_name, read_manifest
 from ..reports.override import shot_stem
 
@@ -57,8 +57,9 @@ class Chunk:
         self.where = str(folder)
 
     def contacts(self, paths: Sequence[str], stem: str) -> ContactTable:
-        """The chunk's contacts.csv over the meshes ``paths`` of the merged load."""
-        return read_contacts_table(self.folder / f"{stem}.contacts.csv", paths)
+        """The chunk's contacts.csv over the meshes ``paths`` of the merged load (every column usdksl writes
+        must be there; a prim that is not among ``paths`` is an error)."""
+        return read_contacts_csv(self.folder / f"{stem}.contacts.csv", paths, required=CONTACT_COLUMNS).table
 
     def __repr__(self) -> str:
         return f"{self.folder} ({self.start:g}..{self.end:g})"
@@ -200,13 +201,12 @@ def check_overlap(earlier, later, first: ContactTable, second: ContactTable) -> 
     overlap_end = min(earlier.end, later.end)
     if later.start >= overlap_end:
         return
-    keys = np.concatenate([_pair_rows(first), _pair_rows(second)])
-    ids = np.unique(keys, axis=0, return_inverse=True)[1].reshape(-1) if len(keys) else np.zeros(0, np.int64)
-    ids_first, ids_second = ids[:first.count], ids[first.count:]
+    ids_first, ids_second = face_pair_ids(first, second)
+    rows = first.count + second.count
     # each table has one row per face pair, so these scatters are one-to-one
-    time_in_first = np.full(len(keys), np.inf)
+    time_in_first = np.full(rows, np.inf)
     time_in_first[ids_first] = first.time
-    time_in_second = np.full(len(keys), np.inf)
+    time_in_second = np.full(rows, np.inf)
     time_in_second[ids_second] = second.time
     inside = (first.time > later.start) & (first.time < overlap_end)
     differs = inside & (time_in_second[ids_first] != first.time)
@@ -228,11 +228,6 @@ def merged_last_times(table: ContactTable, tables: Sequence[ContactTable], paths
     latest = latest_per_face_pair(paths, *(np.concatenate([getattr(t, name) for t in tables])
                                            for name in ("last_time", "mesh_a", "face_a", "mesh_b", "face_b")))
     return latest.time[match_face_pairs(table, latest)[0]]
-
-
-def _pair_rows(table: ContactTable) -> np.ndarray:
-    """int64[C, 4]: (mesh_a, face_a, mesh_b, face_b) per row."""
-    return np.stack([table.mesh_a, table.face_a, table.mesh_b, table.face_b], axis=1).astype(np.int64)
 
 
 def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,

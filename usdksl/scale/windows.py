@@ -34,7 +34,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..contacts import ContactTable
+from ..contacts.table import ContactTable
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..pipeline.check import check_segment, check_shot, load_and_plan
 from ..pipeline.messages import INFO, Message, message_collector

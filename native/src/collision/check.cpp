@@ -96,8 +96,7 @@ void run_method(const Scene& scene, const std::vector<std::pair<int32_t, int32_t
                 WindowStop* stop = nullptr) {
     switch (options.method) {
     case Method::KineticSeparationList: {
-        KineticSeparationLists lists(scene, mesh_pairs, tester, counters, options.t_begin, options.t_end,
-                                     options.ccd.thickness);
+        KineticSeparationLists lists(scene, mesh_pairs, tester, counters, options);
         lists.run(options.progress, stop);
         break;
     }

@@ -81,16 +81,16 @@ size_t vertex_sharing_pairs_at_most(const MeshAnimation& mesh) {
 
 KineticSeparationLists::KineticSeparationLists(const Scene& scene,
                                                const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                                               TrianglePairTester& tester, Counters& counters, double t_begin,
-                                               double t_end, double thickness)
-    : scene_(scene), tester_(tester), counters_(counters), t_begin_(t_begin), t_end_(t_end) {
+                                               TrianglePairTester& tester, Counters& counters,
+                                               const CheckOptions& options)
+    : scene_(scene), tester_(tester), counters_(counters), t_begin_(options.t_begin), t_end_(options.t_end) {
     const size_t mesh_count = scene.meshes.size();
     trees_.resize(mesh_count);
     std::vector<bool> used(mesh_count, false);
     for (const auto& [ma, mb] : mesh_pairs) used[ma] = used[mb] = true;
     for (size_t mesh = 0; mesh < mesh_count; ++mesh) {
         if (!used[mesh] || scene.meshes[mesh].triangles.empty()) continue;
-        trees_[mesh] = std::make_unique<StepBoxTree>(scene.plans[mesh], scene.meshes[mesh].triangles, t_begin);
+        trees_[mesh] = std::make_unique<StepBoxTree>(scene.plans[mesh], scene.meshes[mesh].triangles, t_begin_);
     }
     size_t sharing_pairs = 0;
     for (const auto& [ma, mb] : mesh_pairs) {
@@ -99,7 +99,7 @@ KineticSeparationLists::KineticSeparationLists(const Scene& scene,
         const int32_t nodes = trees_[list.mesh_a]->topology().node_count();
         list.index.resize(static_cast<size_t>((nodes + FRONT_INDEX_BLOCK_NODES - 1) / FRONT_INDEX_BLOCK_NODES));
         lists_.push_back(std::move(list));
-        margin_.push_back(scene.contact_distance(ma, mb, thickness));
+        margin_.push_back(scene.contact_distance(ma, mb, options.ccd.thickness));
         if (ma != mb) {
             trees_[ma]->index_triangles_under();
             trees_[mb]->index_triangles_under();

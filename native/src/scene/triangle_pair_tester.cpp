@@ -334,7 +334,7 @@ bool TrianglePairTester::test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh
     contact.tri_a = tri_a;
     contact.mesh_b = mesh_b;
     contact.tri_b = tri_b;
-    contact.feature = ContactFeature::Static;
+    contact.feature = ContactFeature::Initial;
     record(contact);
     return true;
 }

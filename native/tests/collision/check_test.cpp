@@ -82,7 +82,7 @@ std::pair<std::map<PairKey, double>, double> stopped_run(const std::vector<MeshA
     WindowStop stop(0.0, t_end);
     stop.stop_at = stop_at;
     if (method == Method::KineticSeparationList) {
-        KineticSeparationLists lists(scene, {{0, 0}}, tester, counters, 0.0, t_end, options.ccd.thickness);
+        KineticSeparationLists lists(scene, {{0, 0}}, tester, counters, options);
         lists.run({}, &stop);
     } else if (method == Method::SweptVolume) {
         run_swept_volume(scene, {{0, 0}}, options, tester, counters, &stop);

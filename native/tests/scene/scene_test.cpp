@@ -78,4 +78,7 @@ TEST(TrianglePairTester, MissesNothingAndReportsNothingWhenApart) {
     settings.thickness = 0.02;
     TrianglePairTester thick(scene, settings, counters);
     EXPECT_TRUE(thick.test_static(0, 0, 1, 0, 2.0)) << "0.01 apart is within a thickness of 0.02";
+    ASSERT_EQ(thick.contacts().size(), 1u);
+    EXPECT_EQ(thick.contacts().front().feature, ContactFeature::Initial) << "found by a test at one instant";
+    EXPECT_EQ(static_cast<int>(ContactFeature::Initial), 3) << "the code usdksl.contacts.table reads as initial";
 }

@@ -61,9 +61,11 @@ constexpr int32_t FRONT_INDEX_BLOCK_NODES = 4096;
 ///        on merged keyframes a step spans many frames.
 class KineticSeparationLists {
 public:
+    /// @brief Lists over [options.t_begin, options.t_end] (time codes), their
+    ///        boxes padded for options.ccd.thickness: the one value the tester
+    ///        was built with too.
     KineticSeparationLists(const Scene& scene, const std::vector<std::pair<int32_t, int32_t>>& mesh_pairs,
-                           TrianglePairTester& tester, Counters& counters, double t_begin, double t_end,
-                           double thickness);
+                           TrianglePairTester& tester, Counters& counters, const CheckOptions& options);
 
     /// @brief Processes every step up to t_end (time codes), or, given a
     ///        `stop`, up to the first step boundary at or after its stop_at,

@@ -14,10 +14,10 @@ enum class ContactFeature : int8_t {
     FaceVertex = 1,
     /// @brief An edge of A against an edge of B.
     EdgeEdge = 2,
-    /// @brief Found by a static test at one instant: already touching or
+    /// @brief Found by a test at one instant: already touching or
     ///        intersecting at the start of the checked range, or (discrete
-    ///        method) at a sample.
-    Static = 3,
+    ///        method) at a sample. The reports call it `initial` too.
+    Initial = 3,
 };
 
 } // namespace usdksl

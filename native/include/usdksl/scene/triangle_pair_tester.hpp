@@ -91,7 +91,7 @@ public:
     ///        it as one narrow-phase test.
     bool apply_carried(const Contact& candidate, const PairStep& step);
 
-    /// @brief Static test at time code t; records a Static contact at t and returns true on contact.
+    /// @brief Static test at time code t; records an Initial contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);
 
     /// @brief From now on, exchange_findings() publishes the pairs this

@@ -7,7 +7,7 @@ column (numpy arrays, no Python object per row): time (USD time codes), the two 
 so there is one order and one choice of row per pair (docs/contracts.md, Contacts):
 
 * self rows have face_a < face_b, inter rows prim_a < prim_b (string order of the prim paths; mesh
-  index order when a table has no paths);
+  index order when a table has no paths): the orientation of usdksl.contacts.orientation;
 * one row per face pair: its earliest time; among equal earliest times the lowest feature code;
 * rows sorted by (time, prim_a, face_a, prim_b, face_b).
 """
@@ -19,11 +19,14 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .orientation import canonical_swap, swap_sides
+
 #: Feature codes (the native core's ContactFeature) and the words the reports write for them.
 FEATURE_VERTEX_FACE = 0
 FEATURE_FACE_VERTEX = 1
 FEATURE_EDGE_EDGE = 2
-#: Already touching at the start of the checked range (the core's "Static": a test at one instant).
+#: Found by a test at one instant: already touching at the start of the checked range (the core's
+#: ContactFeature::Initial).
 FEATURE_INITIAL = 3
 FEATURE_NAMES = ("vertex-face", "face-vertex", "edge-edge", "initial")
 #: Written for a feature code outside FEATURE_NAMES (a table built without features).
@@ -79,9 +82,9 @@ def canonical_first_contacts(time, mesh_a, face_a, mesh_b, face_b, feature,
     mesh_rank = np.asarray(mesh_rank, dtype=np.int64)
 
     same_mesh = mesh_a == mesh_b
-    swap = np.where(same_mesh, face_a > face_b, mesh_rank[mesh_a] > mesh_rank[mesh_b]) if time.size else same_mesh
-    mesh_a, mesh_b = np.where(swap, mesh_b, mesh_a), np.where(swap, mesh_a, mesh_b)
-    face_a, face_b = np.where(swap, face_b, face_a), np.where(swap, face_a, face_b)
+    swap = canonical_swap(mesh_rank[mesh_a], face_a, mesh_rank[mesh_b], face_b) if time.size else same_mesh
+    mesh_a, mesh_b = swap_sides(swap, mesh_a, mesh_b)
+    face_a, face_b = swap_sides(swap, face_a, face_b)
     flipped = np.where(feature == FEATURE_VERTEX_FACE, FEATURE_FACE_VERTEX,
                        np.where(feature == FEATURE_FACE_VERTEX, FEATURE_VERTEX_FACE, feature))
     feature = np.where(swap, flipped, feature).astype(np.int8)

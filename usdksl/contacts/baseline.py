@@ -31,19 +31,20 @@ from typing import List, Optional, Tuple, Union
 
 import numpy as np
 
-from .contacts import ContactTable
-from .errors import UsdkslInputError, UsdkslUsageError
+from ..errors import UsdkslInputError, UsdkslUsageError
+from .csv_file import KNOWN, NEW, is_number
+from .orientation import canonical_swap, swap_sides
+from .table import ContactTable
 
 #: A face column that is empty or this accepts every face of its prim.
 ANY_FACE = "*"
 #: How an entry says "any face" once read.
 WILDCARD = -1
+#: Where a wildcard face stands in the canonical orientation: after every face index, so a self entry
+#: keeps its one numbered face on side a.
+WILDCARD_ORDER = np.iinfo(np.int64).max
 #: Lines starting with this are comments.
 COMMENT = "#"
-#: contacts.csv column with a row's baseline status, and its words.
-STATUS_COLUMN = "baseline"
-NEW = "new"
-KNOWN = "known"
 
 
 @dataclass
@@ -188,7 +189,7 @@ def _times(values: Optional[np.ndarray], count: int, line_numbers: List[int], na
     try:
         times[given] = text[given].astype(np.float64)
     except ValueError:
-        bad = next(row for row in np.flatnonzero(given).tolist() if not _is_number(text[row]))
+        bad = next(row for row in np.flatnonzero(given).tolist() if not is_number(text[row]))
         raise UsdkslInputError(f"line {line_numbers[bad]}: time '{text[bad]}' is not a number", file=name) from None
     bad = np.flatnonzero(given & ~np.isfinite(times))
     if bad.size:
@@ -196,22 +197,14 @@ def _times(values: Optional[np.ndarray], count: int, line_numbers: List[int], na
     return times
 
 
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
 def _canonical_sides(prim_a, face_a, prim_b, face_b):
-    """Sides swapped so prim_a <= prim_b; in a self entry the lower face (or the only numbered one) on
-    side a."""
-    same = prim_a == prim_b
-    self_swap = same & (((face_a > face_b) & (face_b != WILDCARD)) | ((face_a == WILDCARD) & (face_b != WILDCARD)))
-    swap = (~same & (prim_a > prim_b)) | self_swap
-    return (np.where(swap, prim_b, prim_a), np.where(swap, face_b, face_a), np.where(swap, prim_a, prim_b),
-            np.where(swap, face_a, face_b))
+    """Entries in canonical orientation (usdksl.contacts.orientation): prim_a <= prim_b; in a self entry the
+    lower face (or the only numbered one) on side a."""
+    swap = canonical_swap(prim_a, np.where(face_a == WILDCARD, WILDCARD_ORDER, face_a), prim_b,
+                          np.where(face_b == WILDCARD, WILDCARD_ORDER, face_b))
+    prim_a, prim_b = swap_sides(swap, prim_a, prim_b)
+    face_a, face_b = swap_sides(swap, face_a, face_b)
+    return prim_a, face_a, prim_b, face_b
 
 
 def compare(table: ContactTable, baseline: Baseline) -> BaselineComparison:
@@ -305,5 +298,4 @@ def baseline_for_shot(baseline: Optional[Union[str, os.PathLike]], shot_stem: st
     return read_baseline(path, time_tolerance), None
 
 
-__all__ = ["ANY_FACE", "Baseline", "BaselineComparison", "KNOWN", "NEW", "STATUS_COLUMN", "baseline_for_shot",
-           "compare", "read_baseline"]
+__all__ = ["ANY_FACE", "Baseline", "BaselineComparison", "baseline_for_shot", "compare", "read_baseline"]
