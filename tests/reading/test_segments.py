@@ -134,3 +134,15 @@ def test_a_prototype_with_an_empty_sample_is_refused_not_dropped(tmp_path):
     assert result.exit_code == 2, result.stderr
     assert "/World/scatter/Prototypes/box: time 1: points are empty or blocked here" in result.stderr
     assert "cannot be checked around them" in result.stderr and not (tmp_path / "out").exists()
+
+
+def test_last_contacts_of_a_shot_cut_at_gaps(tmp_path, clean):
+    # the piece inside the gap checks nothing (the other sheet rests): its table still carries last contacts
+    shot = resting_sheets(tmp_path / "bad.usda", {15.0: "block"})
+    result = run_cli("check", shot, "--out", tmp_path / "out", "--last-contact")
+    assert result.exit_code == 1, result.stderr
+    with open(tmp_path / "out" / "bad.contacts.csv", newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    assert [(r["prim_a"], int(r["face_a"]), r["prim_b"], int(r["face_b"]), float(r["time"])) for r in rows] == clean
+    # resting from t = 11 to the end: the last contact is the end of the checked range
+    assert {float(r["last_time"]) for r in rows} == {24.0}

@@ -24,7 +24,7 @@ from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
 from ..reading.interpolation import reject_spline_motion
 from ..reading.loader import find_mesh_sources
 from ..reading.scope import (PAIR_RIGID_ONLY, PAIR_SELF_RIGID, PAIR_SELF_STATIC, PAIR_STATIC_STATIC, Plan, ScopeOptions,
-                             include_predicate, merge_plans, plan_shot)
+                             include_predicate, keep_pairs_across_segments, merge_plans, plan_shot)
 from ..reports.formats import mesh_pair_lines
 from ..warning_kinds import EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .coverage import shot_coverage
@@ -139,11 +139,13 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
         segment_plan = plan_shot(segment, scope, segment_range)
         if predicate is not None:
             segment_plan.excluded_paths = list(dict.fromkeys(predicate.rejected))
+        plans.append(segment_plan)
+    keep_pairs_across_segments(plans)
+    for (segment_range, _), segment_plan in zip(segments, plans):
         if len(segments) > 1:
             say(PLAN, f"segment {segment_range[0]:g}..{segment_range[1]:g}:")
         for line in segment_plan.describe():
             say(PLAN, line.strip() if line.startswith("pairs") else line)
-        plans.append(segment_plan)
     plan = merge_plans(plans)
     if not plan.checked_pairs and require_pairs:
         still = {PAIR_STATIC_STATIC, PAIR_SELF_STATIC, PAIR_SELF_RIGID, PAIR_RIGID_ONLY}
@@ -227,8 +229,9 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
     ``reverse_progress`` then follows the backwards run in reversed time). Adds the core's work counters
     (and UNDECIDED_COUNTER) to ``counters`` and warns through ``say`` about undecided triangle pairs."""
     paths = [mesh.path for mesh in segment.meshes]
-    if not plan.checked_pairs:
-        return ContactTable.empty(paths)
+    if not plan.checked_pairs:   # a piece where nothing needs a check still carries the columns of the others
+        empty = ContactTable.empty(paths)
+        return empty.with_last_times(np.zeros(0)) if options.last_contact else empty
     result = find_contacts(segment.meshes, plan.pairs, method=options.method, time_range=segment_range,
                            tolerance=options.tolerance, thickness=options.thickness, progress=progress,
                            threads=options.threads)

@@ -452,6 +452,31 @@ def _single_points_sample(stage, path: str) -> bool:
     return bool(mesh) and mesh.GetPointsAttr().GetNumTimeSamples() == 1
 
 
+#: Pair-level skip reasons that follow from how the meshes move over one segment only.
+MOTION_SKIP_REASONS = (PAIR_STATIC_STATIC, PAIR_SELF_STATIC, PAIR_SELF_RIGID, PAIR_RIGID_ONLY)
+PAIR_KEPT_ACROSS_SEGMENTS = "checked in another segment: kept where its meshes rest"
+
+
+def keep_pairs_across_segments(plans: Sequence[Plan]) -> None:
+    """In a shot cut into segments, check a pair in every segment where both its meshes are there once any segment
+    checks it, even where neither moves: the segment does not know the motion around it, and a contact that goes on
+    while the meshes rest must keep its last contact (and be confirmed there). Edits ``plans`` in place."""
+    if len(plans) < 2:
+        return
+    union = {pair for plan in plans for pair in map(tuple, plan.pairs.tolist())}
+    for plan in plans:
+        kept = [(i, j) for i, j, reason in plan.skipped_pairs if (i, j) in union and reason in MOTION_SKIP_REASONS]
+        if not kept:
+            continue
+        reasons = dict(zip(map(tuple, plan.pairs.tolist()), plan.pair_reasons))
+        reasons.update({pair: PAIR_KEPT_ACROSS_SEGMENTS for pair in kept})
+        ordered = sorted(reasons)
+        plan.pairs = np.array(ordered, dtype=np.int32).reshape(-1, 2)
+        plan.pair_reasons = [reasons[pair] for pair in ordered]
+        kept_set = set(kept)
+        plan.skipped_pairs = [(i, j, reason) for i, j, reason in plan.skipped_pairs if (i, j) not in kept_set]
+
+
 def merge_plans(plans: Sequence[Plan]) -> Plan:
     """One plan for a shot checked in several time segments (same meshes, same order): a pair is checked
     when any segment checks it (with that segment's reason); a pair or mesh is reported skipped with the
