@@ -5,12 +5,13 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
 from usdksl.pipeline.memory_budget import (
     MEMORY_LIMIT_VARIABLE, ShotSize, _cgroup_room, _meminfo_available, check_memory, estimated_bytes,
-    memory_limit, parse_memory_size, scan_shot)
+    memory_limit, parse_memory_size, part_bounds, scan_shot)
 from usdksl.cli.main import main
 from usdksl.errors import UsdkslUsageError
 from usdksl.reading.loader import load_shot
@@ -174,3 +175,24 @@ def test_the_scan_leaves_out_a_mesh_it_cannot_read(tmp_path):
     whole = scan_shot(str(REPO_ROOT / "samples" / "drape.usda"))
     size = scan_shot(str(path))
     assert size.meshes == whole.meshes - 1 and 0 < size.vertex_samples < whole.vertex_samples
+
+
+def test_the_suggested_parts_are_cut_at_shared_samples_and_merge(tmp_path):
+    # a 60 fps cache: equal parts of 0..150 would be cut between samples (21.4286), which merge refuses
+    size = ShotSize(meshes=1, vertex_samples=10_000_000, triangles=10_000, span=(0.0, 150.0),
+                    shared_samples=np.arange(0.0, 151.0))
+    assert part_bounds(size.span, 7, size.shared_samples) == [0.0, 21.0, 43.0, 64.0, 86.0, 107.0, 129.0, 150.0]
+    assert part_bounds(size.span, 7, None)[1] == pytest.approx(150.0 / 7)
+    with pytest.raises(UsdkslUsageError) as refused:
+        check_memory(size, "ksl", limit=estimated_bytes(size) // 5)
+    example = str(refused.value).split("--time-range A B (")[1].split(";")[0]
+    assert all(float(value).is_integer() for pair in example.rstrip(", .").split(", ") for value in pair.split())
+
+
+def test_the_advice_of_a_real_refusal_merges(shots, tmp_path):
+    result = CliRunner().invoke(main, ["check", str(shots["large"]), "--out", str(tmp_path / "x"), "--threads", "1",
+                                       "--memory-limit", "60M"])
+    first, second = str(result.stderr).split("--time-range A B (")[1].split(";")[0].split(",")[:2]
+    parts = [tuple(float(v) for v in first.split()), tuple(float(v) for v in second.split())]
+    times = set(load_shot(shots["large"]).times.tolist())
+    assert parts[0][1] == parts[1][0] and parts[0][1] in times

@@ -30,7 +30,7 @@ import math
 import os
 import re
 from dataclasses import dataclass
-from typing import Callable, Iterable, Optional, Tuple, Union
+from typing import Callable, Iterable, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -71,6 +71,9 @@ class ShotSize:
     vertex_samples: int = 0
     triangles: int = 0
     span: Optional[TimeRange] = None
+    #: Time codes at which every animated mesh has a sample (None: no animated mesh): where a shot can be cut
+    #: into parts that usdksl merge joins exactly.
+    shared_samples: Optional[np.ndarray] = None
 
 
 def parse_memory_size(text: Union[str, int, None]) -> Optional[int]:
@@ -200,6 +203,9 @@ def _count_meshes(meshes: Iterable, time_range: Optional[TimeRange]) -> ShotSize
         except Exception:   # noqa: BLE001  (left out of the count; the loader reports it)
             continue
         samples = _samples_in(times, time_range)
+        if times.size > 1:
+            size.shared_samples = (times if size.shared_samples is None
+                                   else np.intersect1d(size.shared_samples, times, assume_unique=True))
         if samples:
             starts.append(max(float(times[0]), time_range[0]) if time_range else float(times[0]))
             ends.append(min(float(times[-1]), time_range[1]) if time_range else float(times[-1]))
@@ -230,6 +236,19 @@ def estimated_bytes(size: ShotSize, method: str = "ksl", threads: int = 1) -> in
                * max(int(threads), 1))
 
 
+def part_bounds(span: TimeRange, parts: int, shared_samples: Optional[np.ndarray]) -> List[float]:
+    """``parts`` + 1 increasing bounds (time codes) splitting ``span`` into about equal parts, each inner bound
+    moved to the nearest time at which every animated mesh has a sample (``shared_samples``) so that the parts'
+    outputs merge exactly (docs/contracts.md, Windows and merging)."""
+    start, end = float(span[0]), float(span[1])
+    bounds = [start + (end - start) * i / parts for i in range(parts + 1)]
+    if shared_samples is not None:
+        inner = shared_samples[(shared_samples > start) & (shared_samples < end)]
+        if inner.size:
+            bounds[1:-1] = [float(inner[np.argmin(np.abs(inner - bound))]) for bound in bounds[1:-1]]
+    return sorted(set(bounds))
+
+
 def check_memory(size: ShotSize, method: str, limit: Optional[int], file: Optional[str] = None,
                  threads: int = 1) -> int:
     """Raise UsdkslUsageError (exit 2) when the check of ``size`` on ``threads`` threads needs more than
@@ -246,9 +265,8 @@ def check_memory(size: ShotSize, method: str, limit: Optional[int], file: Option
         advice = "check fewer meshes at a time with --prims/--exclude"
     else:
         chunks = math.ceil((needed - fixed) / (limit - fixed) * 1.25)
-        start, end = size.span
-        step = (end - start) / chunks
-        example = ", ".join(f"{start + i * step:g} {start + (i + 1) * step:g}" for i in range(min(chunks, 3)))
+        cuts = part_bounds(size.span, chunks, size.shared_samples)
+        example = ", ".join(f"{a:g} {b:g}" for a, b in zip(cuts[:3], cuts[1:4]))
         advice = (f"check it in about {chunks} parts with --time-range A B ({example}"
                   f"{', ...' if chunks > 3 else ''}; farm chunks join with usdksl merge), or fewer meshes "
                   f"with --prims/--exclude")
