@@ -4,8 +4,9 @@ The names are imported on first use (PEP 562), so that ``usdksl.scale.shot_argum
 ``usdksl check`` reads its shot arguments with) does not import the many-shot machinery.
 """
 
-from importlib import import_module
 from typing import TYPE_CHECKING
+
+from ..lazy_exports import lazy_exports
 
 #: Public name -> the module that defines it.
 _EXPORTS = {name: "usdksl.scale.batch"
@@ -15,17 +16,7 @@ _EXPORTS["expand_shots"] = "usdksl.scale.shot_arguments"
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name):
-    module_name = _EXPORTS.get(name)
-    if module_name is None:
-        raise AttributeError(f"module 'usdksl.scale' has no attribute {name!r}")
-    value = getattr(import_module(module_name), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 if TYPE_CHECKING:   # what the names are, for type checkers and readers
