@@ -38,10 +38,6 @@ THICKNESS = """# Thickness above 0: cost and measure
 
 | shot | thickness |
 """
-#: A session or issue number, in text or in a file name (ksl_vs_swept_issue19.txt).
-HISTORY = re.compile(r"\b(session|issue)[ _-]?[0-9]", re.IGNORECASE)
-#: Files of benchmarks/ that are not read as text: generated data and plots.
-NOT_TEXT = {".usdc", ".usd", ".npz", ".png", ".pyc"}
 
 
 def test_the_page_holds_the_pages_present_each_with_its_command(tmp_path):
@@ -88,14 +84,3 @@ def test_the_quick_runs_write_into_the_folder_they_are_given(tmp_path):
     coverage = next(command for command in commands if command[1] == "benchmarks/coverage_cost.py")
     assert coverage[-2:] == ["--output", str(tmp_path / "coverage_cost.md")]
     assert all(Path(REPO_ROOT, argument).exists() for argument in coverage[2:-2])
-
-
-def test_no_session_or_issue_numbers_in_benchmarks():
-    found = []
-    for path in sorted((REPO_ROOT / "benchmarks").rglob("*")):
-        if not path.is_file() or path.suffix in NOT_TEXT or {"caches", "raw", "__pycache__"} & set(path.parts):
-            continue
-        for number, line in enumerate([path.name] + path.read_text(errors="replace").splitlines()):
-            if HISTORY.search(line):
-                found.append(f"{path.relative_to(REPO_ROOT)}:{number}: {line[:120]}")
-    assert found == []
