@@ -38,8 +38,9 @@ def test_no_session_or_issue_numbers_in_tracked_files():
 
 
 def test_the_scan_finds_them(tmp_path):
-    for name, text in (("notes.md", "until Session 19 it was slow\n"), ("ksl_issue19.txt", "fine\n"),
+    session, issue = "Session", "issue"   # spelled apart, or this file would hold what it looks for
+    for name, text in (("notes.md", f"until {session} 19 it was slow\n"), (f"ksl_{issue}19.txt", "fine\n"),
                        ("ok.md", "an issue of style, 19 sessions\n")):
         (tmp_path / name).write_text(text)
     found = history_lines(sorted(tmp_path.iterdir()), tmp_path)
-    assert [line.split(":")[-1].strip() for line in found] == ["ksl_issue19.txt", "until Session 19 it was slow"]
+    assert [line.split(":")[-1].strip() for line in found] == [f"ksl_{issue}19.txt", f"until {session} 19 it was slow"]

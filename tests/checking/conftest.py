@@ -15,3 +15,12 @@ def newton_twist_within_1cm(newton_twist_path):
     thickness = 0.01
     return SimpleNamespace(mesh=mesh, thickness=thickness,
                            result=find_contacts([mesh], [(0, 0)], thickness=thickness, threads=1))
+
+
+@pytest.fixture(scope="session")
+def ipctk_reference():
+    """tests/reference/tight_inclusion.py: first contacts of whole shots from ipctk's Tight-Inclusion CCD,
+    sharing no code with the core (skips without ipctk)."""
+    pytest.importorskip("ipctk")
+    from reference import tight_inclusion
+    return tight_inclusion

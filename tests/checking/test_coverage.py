@@ -3,6 +3,7 @@ checked (docs/contracts.md, Coverage), in CheckResult, the JSON report, -v and t
 
 import json
 
+import pytest
 from click.testing import CliRunner
 from pxr import Sdf, Usd, UsdGeom
 
@@ -49,6 +50,11 @@ def test_a_complete_check_accounts_for_every_mesh(tmp_path):
     assert set(scoped) == {"/World/Prop"} and scoped["/World/Prop"].kind == SCOPED_OUT
     assert "collisionEnabled" in scoped["/World/Prop"].reason
     assert "NOT CHECKED" not in result.summary and result.exit_code == 1
+    # every face of the 3x3 cloth lands on the floor's one face at t = 11
+    prim_a, prim_b = result.table.prim_names()
+    assert sorted(zip(prim_a, result.table.face_a.tolist(), prim_b, result.table.face_b.tolist())) == [
+        ("/World/Cloth", face, "/World/Floor", 0) for face in range(9)]
+    assert result.table.time.tolist() == pytest.approx([11.0] * 9, abs=1e-6)
 
 
 def test_what_is_not_checked_is_named_in_the_result_the_json_and_the_summary(tmp_path):

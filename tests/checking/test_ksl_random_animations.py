@@ -7,14 +7,19 @@ Each scene mixes meshes sampled at every frame on curves, meshes keyframed spars
 mesh fall inside another's segments), meshes that hold still for stretches and then dash, rigid boxes
 spinning through cloth, and cloth folding onto itself. Brute force tests every triangle pair on every
 raw sample step; the answer of ``ksl`` (any thread count) and ``swept`` must be brute force's, bit for
-bit: the same pairs, the same first-contact times, the same features."""
+bit: the same pairs, the same first-contact times, the same features. Brute force shares its triangle-pair
+code with the others, so smaller scenes of the same kinds are also held to ipctk's Tight-Inclusion CCD
+(tests/reference), which shares none of it."""
 
+import collections
+import functools
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from usdksl.ccd_defaults import DEFAULT_TOLERANCE
 from usdksl.checking.collision import find_contacts
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -26,6 +31,8 @@ SEEDS = tuple(range(30))
 FRAMES = 40
 #: Thicknesses (scene units) drawn from; the cloths are about one unit across.
 THICKNESSES = (0.0, 0.0, 0.002, 0.02)
+#: Range (low inclusive, high exclusive) of the quads along each side of a cloth.
+CLOTH_CELLS = (5, 15)
 
 
 def contact_columns(result):
@@ -50,9 +57,10 @@ def hold_and_dash(rng, times: np.ndarray) -> np.ndarray:
     return np.clip((times - dash) / rng.uniform(0.5, 2.0), 0.0, 1.0)
 
 
-def cloth(rng, times: np.ndarray):
-    """A sheet waving on curves while it drifts and folds; sometimes resting then dashing."""
-    n = int(rng.integers(5, 15))
+def cloth(rng, times: np.ndarray, cells=CLOTH_CELLS):
+    """A sheet of n x n quads (n drawn from the range ``cells``) waving on curves while it drifts and
+    folds; sometimes resting then dashing."""
+    n = int(rng.integers(*cells))
     verts, tris = triangle_grid(n, n)
     verts = verts[:, [0, 2, 1]]  # lie in XZ, Y up
     offset = rng.uniform(-0.3, 0.3, size=3)
@@ -99,9 +107,9 @@ def still_slab(rng):
     return animated([0.0], [verts], tris)
 
 
-def random_scene(seed: int, thicknesses=THICKNESSES):
+def random_scene(seed: int, thicknesses=THICKNESSES, cloth_cells=CLOTH_CELLS):
     rng = np.random.default_rng(seed)
-    meshes = [cloth(rng, sample_times(rng)) for _ in range(int(rng.integers(1, 3)))]
+    meshes = [cloth(rng, sample_times(rng), cloth_cells) for _ in range(int(rng.integers(1, 3)))]
     meshes += [spinning_box(rng, sample_times(rng)) for _ in range(int(rng.integers(0, 3)))]
     if rng.random() < 0.5:
         meshes.append(still_slab(rng))
@@ -153,6 +161,46 @@ def test_the_random_scenes_have_contacts_and_the_kinds_of_motion_they_are_for():
     assert mixed_sampling >= 3
 
 
+#: Quads along each side of the cloths of the scenes held to the ipctk reference (low inclusive, high
+#: exclusive): the reference makes one Python call per primitive query, so its scenes are small.
+REFERENCE_CLOTH_CELLS = (3, 6)
+#: Seeds of those scenes: each thickness, contacts by every feature, about 0.3 s of reference each.
+REFERENCE_SEEDS = (0, 2, 3, 5, 6, 7, 11, 13, 15, 18, 25, 29)
+
+
+@functools.lru_cache(maxsize=None)
+def small_scene_and_reference(seed: int):
+    """(meshes, pairs, thickness, ipctk's first contacts) of the small scene of ``seed``."""
+    from reference.tight_inclusion import first_contacts
+    meshes, pairs, thickness = random_scene(seed, cloth_cells=REFERENCE_CLOTH_CELLS)
+    return meshes, pairs, thickness, first_contacts(meshes, pairs, thickness=thickness)
+
+
+@pytest.mark.parametrize("seed", REFERENCE_SEEDS)
+def test_every_method_agrees_with_ipctk_on_small_random_animations(seed, ipctk_reference):
+    meshes, pairs, thickness, reference = small_scene_and_reference(seed)
+    for method, threads in (("brute", 1), ("ksl", 1), ("ksl", 2), ("swept", 1)):
+        result = find_contacts(meshes, pairs, method=method, thickness=thickness, threads=threads)
+        ipctk_reference.assert_agrees(reference, result, meshes, DEFAULT_TOLERANCE,
+                                      f"{method} at {threads} threads (seed {seed}): ")
+
+
+def test_the_small_scenes_have_first_contacts_of_every_feature_at_every_thickness(ipctk_reference):
+    # The comparison above must have something to compare: first contacts by edges alone (a core that
+    # tested edges only after a vertex touched would miss them), by vertices, already touching at the
+    # start, and contacts at thickness 0 and above it.
+    features = collections.Counter()
+    with_contacts = collections.Counter()
+    for seed in REFERENCE_SEEDS:
+        _, _, thickness, reference = small_scene_and_reference(seed)
+        features.update(reference.feature.values())
+        with_contacts[thickness > 0] += bool(reference.must)
+    assert features[ipctk_reference.EDGE_EDGE] >= 100
+    assert features[ipctk_reference.VERTEX_FACE] + features[ipctk_reference.FACE_VERTEX] >= 100
+    assert features[ipctk_reference.INITIAL] >= 10
+    assert with_contacts[False] >= 5 and with_contacts[True] >= 3
+
+
 #: Seeds of the whipping-corner scenes.
 WHIP_SEEDS = tuple(range(16))
 
@@ -195,3 +243,17 @@ def test_a_corner_that_holds_still_then_whips_is_caught_as_brute_force_catches_i
     for threads in (1, 2):
         answer = contact_columns(find_contacts(meshes, pairs, method="ksl", thickness=thickness, threads=threads))
         assert answer == brute, f"ksl at {threads} threads differs from brute force (seed {seed})"
+
+
+#: Whipping-corner seeds held to the ipctk reference: one at a thickness (0.002), one at 0.
+WHIP_REFERENCE_SEEDS = (0, 7)
+
+
+@pytest.mark.parametrize("seed", WHIP_REFERENCE_SEEDS)
+def test_a_whipping_corner_agrees_with_ipctk(seed, ipctk_reference):
+    meshes, pairs, thickness = whipping_corner(np.random.default_rng(1000 + seed))
+    reference = ipctk_reference.first_contacts(meshes, pairs, thickness=thickness)
+    assert any(key[2] == 1 for key in reference.must), "the corner must pass through the slab"
+    for method in ("brute", "ksl"):
+        result = find_contacts(meshes, pairs, method=method, thickness=thickness, threads=1)
+        ipctk_reference.assert_agrees(reference, result, meshes, DEFAULT_TOLERANCE, f"{method} (seed {seed}): ")

@@ -2,7 +2,10 @@
 
 Brute force tests every triangle pair on every raw sample interval; KSL and
 swept share merged flightplans and culling. A pair found by brute force and
-missed by a method is the worst bug this product can have.
+missed by a method is the worst bug this product can have. Brute force shares
+the triangle-pair code of the others, so the hand-made and the randomised
+degenerate shots are also held to ipctk's Tight-Inclusion CCD (tests/reference),
+which shares none of it.
 """
 
 import numpy as np
@@ -239,3 +242,72 @@ def test_samples_of_other_meshes_do_not_change_a_pair_s_answer():
     # corner values rule it out (a rounding bound alone would report a contact there). What must hold
     # whichever way it is decided: the same answer alone and beside.
     assert all(answer == alone["brute"] for answer in list(alone.values()) + list(beside.values())), (alone, beside)
+
+
+# ----------------------------------------------------------------- against ipctk
+
+def _window_start_shot():
+    lower, upper = sheets_passing()
+    return [lower, upper], [(0, 1)], (2.0, 4.0)
+
+
+def _still_pair(gap):
+    points = np.array(STILL_POINTS)
+    points[1, 0] -= gap
+    return [animated([16.0, 26.0], [points, points], [[0, 0, 1], [2, 0, 3]])], [(0, 0)], None
+
+
+def _folded_quad(faces):
+    verts = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.0]])
+    folded = verts.copy()
+    folded[1] = [0, 1, 0.0]
+    return [animated([0.0, 1.0], [verts, folded], [[0, 1, 2], [0, 2, 3]], faces=faces)], [(0, 0)], None
+
+
+def _resting_sheet():
+    verts, tris = triangle_grid(5, 5)
+    return [animated(np.arange(4.0), [verts + [0.0, 0.0, 0.1 * k] for k in range(4)], tris)], [(0, 0)], None
+
+
+#: The hand-made shots above as (meshes, mesh pairs, time range or None).
+HAND_MADE_SHOTS = {
+    "folding sheet": lambda: ([folding_sheet()], [(0, 0)], None),
+    "sheets passing": lambda: (list(sheets_passing()), [(0, 1)], None),
+    "tunnelling triangle": lambda: (list(tunnelling_triangle()), [(0, 1)], None),
+    "resting flat sheet": _resting_sheet,
+    "quad folded onto itself": lambda: _folded_quad([0, 0]),
+    "quad of two faces folded": lambda: _folded_quad([0, 1]),
+    "already touching at the range start": _window_start_shot,
+    "still pair touching": lambda: _still_pair(0.0),
+    "still pair apart": lambda: _still_pair(1e-3),
+}
+
+
+@pytest.mark.parametrize("name", sorted(HAND_MADE_SHOTS))
+def test_every_method_agrees_with_ipctk_on_the_hand_made_shots(name, ipctk_reference):
+    meshes, pairs, time_range = HAND_MADE_SHOTS[name]()
+    reference = ipctk_reference.first_contacts(meshes, pairs, time_range=time_range)
+    for method in ("brute", "ksl", "swept"):
+        result = find_contacts(meshes, pairs, method=method, time_range=time_range, tolerance=TOLERANCE)
+        ipctk_reference.assert_agrees(reference, result, meshes, TOLERANCE, f"{method}: ")
+
+
+def test_the_hand_made_shots_touch_where_they_are_built_to(ipctk_reference):
+    touching = set()
+    for name, build in HAND_MADE_SHOTS.items():
+        meshes, pairs, time_range = build()
+        if ipctk_reference.first_contacts(meshes, pairs, time_range=time_range).must:
+            touching.add(name)
+    assert touching == {"folding sheet", "sheets passing", "tunnelling triangle", "quad of two faces folded",
+                        "already touching at the range start", "still pair touching"}
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(random_scenes())
+def test_random_degenerate_animations_agree_with_ipctk(ipctk_reference, meshes):
+    """Coplanar, still, repeated and snapped samples and resting vertices, as above, against ipctk."""
+    pairs = pairs_of(meshes)
+    reference = ipctk_reference.first_contacts(meshes, pairs)
+    for method in ("brute", "ksl", "swept"):
+        result = find_contacts(meshes, pairs, method=method, tolerance=TOLERANCE)
+        ipctk_reference.assert_agrees(reference, result, meshes, TOLERANCE, f"{method}: ")

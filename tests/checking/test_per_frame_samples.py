@@ -1,6 +1,7 @@
 """samples/generate.py's per-frame scene (flutter) writes what it says: a sample at every frame, vertices on
 curves (no three consecutive samples collinear, so flightplan merging has nothing to drop), and a cloth
-that rests on a collider for many frames; and the core finds its contacts at every density."""
+that rests on a collider for many frames; and the core finds its contacts at every density, as brute force
+and as ipctk's Tight-Inclusion CCD (tests/reference, no code shared with the core) find them."""
 
 import subprocess
 import sys
@@ -10,6 +11,7 @@ import numpy as np
 import pytest
 from pxr import Usd, UsdGeom
 
+from usdksl.ccd_defaults import DEFAULT_TOLERANCE
 from usdksl.checking.collision import find_contacts
 from usdksl.reading.loader import load_shot
 from usdksl.reading.scope import plan_shot
@@ -118,8 +120,24 @@ def test_kinetic_lists_equal_brute_force_bit_for_bit_on_per_frame_curves(tmp_pat
         assert answer == brute, (method, threads)
 
 
+# Smaller cloths than above: the reference makes one Python call per primitive query.
+@pytest.mark.parametrize("seed,faces,thickness", [(3, 40, 0.0), (11, 12, 0.004)])
+def test_brute_force_and_the_kinetic_lists_agree_with_ipctk_on_per_frame_curves(tmp_path, seed, faces, thickness,
+                                                                               ipctk_reference):
+    out = generate.generate("flutter", faces, seed=seed, out=str(tmp_path / "flutter.usdc"), frames=FRAMES)
+    shot = load_shot(out)
+    plan = plan_shot(shot)
+    reference = ipctk_reference.first_contacts(shot.meshes, plan.pairs, thickness=thickness)
+    paths = [mesh.path for mesh in shot.meshes]
+    touched = {(paths[key[0]], paths[key[2]]) for key in reference.must}
+    assert {("/World/Table/Top", "/World/Cloth"), ("/World/Cloth", "/World/Pendulum/Ball")} <= touched
+    for method in ("brute", "ksl"):
+        result = find_contacts(shot.meshes, plan.pairs, method=method, thickness=thickness, threads=1)
+        ipctk_reference.assert_agrees(reference, result, shot.meshes, DEFAULT_TOLERANCE, f"{method}: ")
+
+
 @pytest.mark.parametrize("dash_frame", [7, 18, 29])
-def test_a_mesh_resting_far_away_that_dashes_in_one_frame_is_not_missed(dash_frame):
+def test_a_mesh_resting_far_away_that_dashes_in_one_frame_is_not_missed(dash_frame, ipctk_reference):
     # The lists skip looking at boxes that cannot meet before their meshes have travelled their gap,
     # counted with each mesh's largest motion per frame: a sheet that rests 3 units away for many
     # frames and then crosses the other in a single frame must still be found, at brute force's time.
@@ -135,3 +153,6 @@ def test_a_mesh_resting_far_away_that_dashes_in_one_frame_is_not_missed(dash_fra
     brute = contact_columns(find_contacts(meshes, pairs, method="brute"))
     assert brute[0] and min(brute[0]) > dash_frame
     assert contact_columns(find_contacts(meshes, pairs, method="ksl", threads=1)) == brute
+    reference = ipctk_reference.first_contacts(meshes, pairs)
+    assert min(reference.must.values()) > dash_frame
+    ipctk_reference.assert_agrees(reference, find_contacts(meshes, pairs, method="brute"), meshes, DEFAULT_TOLERANCE)

@@ -72,11 +72,11 @@ def test_samples_exit_codes_outputs_and_determinism(sample, tmp_path):
 def test_samples_contacts_equal_the_brute_force_reference(sample, tmp_path):
     name, path = sample
     result = run([path, "--out", tmp_path])
-    assert result.exit_code in (0, 1)
     shot = load_shot(str(path))
     plan = plan_shot(shot)
     reference = find_contacts(shot.meshes, plan.pairs, method="brute")
     expected = ContactTable.from_face_contacts(reference.face_contacts(shot.meshes), [m.path for m in shot.meshes])
+    assert result.exit_code == (1 if expected.count else 0), result.stderr
     ours = _csv_rows((tmp_path / f"{name}.contacts.csv").read_text())
     theirs = _csv_rows(contacts_csv(expected, StageClock.from_metadata(shot.metadata)))
     # Same face pairs, kinds and features; brute force reads the raw samples while KSL
@@ -148,10 +148,15 @@ def test_options_change_the_plan(two_quads_shot, tmp_path):
     assert "skip mesh /World/Floor: excluded by --prims/--exclude" in excluded.stderr
     early = run([two_quads_shot, "--out", tmp_path / "c", "--time-range", "1", "10"])
     assert early.exit_code == 0                            # the quads meet at 12.5
+    assert _csv_rows((tmp_path / "c" / "two_quads.contacts.csv").read_text()) == {}
     late = run([two_quads_shot, "--out", tmp_path / "d", "--time-range", "10", "20", "--method", "swept"])
     assert late.exit_code == 1
+    assert _csv_rows((tmp_path / "d" / "two_quads.contacts.csv").read_text()) == {
+        ("/World/Falling", "0", "/World/Floor", "0", "inter"): pytest.approx(12.5, abs=1e-5)}
     thick = run([two_quads_shot, "--out", tmp_path / "e", "--time-range", "1", "12", "--thickness", "0.2"])
     assert thick.exit_code == 1                            # 0.2 apart at t = 1 + 23 * 0.4 = 10.2
+    assert _csv_rows((tmp_path / "e" / "two_quads.contacts.csv").read_text()) == {
+        ("/World/Falling", "0", "/World/Floor", "0", "inter"): pytest.approx(10.2, abs=1e-5)}
 
 
 def test_usage_errors_exit_2(two_quads_shot, tmp_path):
@@ -436,7 +441,7 @@ def test_points_count_change_is_checked_per_segment(tmp_path):
     result = run([path, "--out", tmp_path / "out"])
     assert result.exit_code == 0, result.stderr
     assert "/World/Grows: topology changes between time 1 and 9" in result.stderr
-    assert (tmp_path / "out" / "grows.contacts.csv").is_file()
+    assert _csv_rows((tmp_path / "out" / "grows.contacts.csv").read_text()) == {}   # 4 or more above /World/Good
 
 
 def test_fifty_mesh_plan_is_printed_with_its_counter(tmp_path):
@@ -447,6 +452,8 @@ def test_fifty_mesh_plan_is_printed_with_its_counter(tmp_path):
     # --rigid: the rigid mover's 48 pairs with the static meshes are left out by default
     result = run([path, "--out", tmp_path / "out", "--junit", junit, "--rigid", "-v"])
     assert result.exit_code == 1, result.stderr          # the falling cloth passes through M00
+    assert _csv_rows((tmp_path / "out" / "fifty.contacts.csv").read_text()) == {
+        ("/World/Anim/Cloth", "0", "/World/Static/M00", "0", "inter"): pytest.approx(12.5, abs=1e-5)}
     assert "usdksl: pairs checked: 98 of 1275 possible (50 meshes, 2 moving)" in result.stderr
     assert f"skip {48 * 47 // 2} pairs: both never move" in result.stderr
     assert len(ElementTree.parse(junit).getroot().find("testsuite").findall("testcase")) == 98

@@ -53,6 +53,19 @@ def test_threshold_is_relative_to_the_mesh_size():
     assert {b.vertex for b in find_blowups("/m", times, above)} == {3}
 
 
+@pytest.mark.parametrize("sizes, blows_up", [(20.0, True), (9.0, False)])
+def test_a_vertex_twenty_sizes_beyond_its_mesh_blows_up_and_nine_sizes_does_not(sizes, blows_up):
+    # docs/contracts.md, Blow-ups: more than 10 times the mesh's size beyond its common motion. The contract's
+    # number, written out: a test reading BLOWUP_SIZE_FACTOR would follow a changed factor.
+    times, points = waving_cloth()
+    size = blowups.mesh_size(points)
+    # One vertex jumps away at sample 15 and stays there (for too few samples to change the median size).
+    points[15:, 14] += [0.0, sizes * size, 0.0]
+    found = faults(times, points)
+    assert found[1] == []                         # one vertex of 36 is no glitch
+    assert [(b.vertex, b.time_before, b.time_after) for b in found[0]] == ([(14, 14.0, 15.0)] if blows_up else [])
+
+
 def test_many_blown_vertices_are_summarised():
     times, points = waving_cloth()
     points[4, :12, 1] = 1e6

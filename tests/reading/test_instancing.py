@@ -9,7 +9,7 @@ from pxr import Usd, UsdGeom
 from usdksl.reading.loader import load_shot
 
 from builders import INSTANCE_DROP, falling_instancer, sha256 as file_digest
-from .conftest import run_cli
+from .conftest import contact_rows, run_cli
 
 INSTANCER = "/World/scatter"
 PROTOTYPE_PRIMS = ("/World/scatter/Prototypes/box", "/World/scatter/Prototypes/crate/lid",
@@ -131,7 +131,7 @@ def test_inactive_ids_are_skipped(tmp_path):
 
 def test_changing_proto_indices_are_an_input_error(tmp_path):
     path = tmp_path / "swap.usda"
-    falling_instancer(path, proto_index_change=(6.0, 3, 0))
+    expected = falling_instancer(path, proto_index_change=(6.0, 3, 0))
     result = run_cli("check", path, "--out", tmp_path / "out")
     assert result.exit_code == 2
     errors = [line for line in result.stderr.splitlines() if line.startswith("usdksl: error")]
@@ -141,6 +141,12 @@ def test_changing_proto_indices_are_an_input_error(tmp_path):
     assert not (tmp_path / "out").exists()
     before = run_cli("check", path, "--out", tmp_path / "out", "--time-range", 1, 5)
     assert before.exit_code == 1, before.stderr
+    # the instances that reach the sheet by time 5, each at its analytic time: to the rounding of the positions
+    # USD interpolates at the cut (float32, half a unit in the last place is at most 2.4e-7 units here; the
+    # instances fall at least 0.35 units a time code, so below 1e-6 time codes)
+    first = _first_contact_per_instance(contact_rows(tmp_path / "out" / "swap.contacts.csv"))
+    assert set(first) == {index for index, time in expected.items() if time <= 5.0} and first
+    assert all(abs(first[index] - expected[index]) <= 1e-6 for index in first), (first, expected)
 
 
 def test_override_layer_carries_per_instance_times_on_the_instancer(scatter, tmp_path):
@@ -163,7 +169,7 @@ def test_override_layer_carries_per_instance_times_on_the_instancer(scatter, tmp
 
 
 def test_info_lists_instances_and_prims_selects_them(scatter, tmp_path):
-    path, _ = scatter
+    path, expected = scatter
     result = run_cli("info", path)
     assert result.exit_code == 0, result.stderr
     listed = [line.split()[0] for line in result.stdout.splitlines() if line.startswith(INSTANCER + "[")]
@@ -173,6 +179,8 @@ def test_info_lists_instances_and_prims_selects_them(scatter, tmp_path):
                        "--exclude", f"{INSTANCER}[[]4]*", "-v")
     assert selected.exit_code == 1, selected.stderr
     assert f"check /World/Sheet x {INSTANCER}[0]/box" in selected.stderr
+    _assert_analytic(_first_contact_per_instance(contact_rows(tmp_path / "out" / "scatter.contacts.csv")),
+                     {index: time for index, time in expected.items() if index != 4})
     # named only where it is said to be left out: in the plan and in the coverage account
     assert f"{INSTANCER}[4]/box" not in selected.stderr.replace(f"skip mesh {INSTANCER}[4]/box", "").replace(
         f"scoped out: {INSTANCER}[4]/box: excluded by --prims/--exclude", "")

@@ -7,7 +7,7 @@ from usdksl.reading.loader import load_shot
 from usdksl.reading.layer_rates import rescaled_layers
 
 from builders import falling_instancer, sha256 as file_digest, wrapper_around_cache
-from .conftest import run_cli
+from .conftest import contact_rows, run_cli
 
 
 @pytest.mark.parametrize("reference", [False, True], ids=["sublayer", "reference"])
@@ -22,6 +22,13 @@ def test_wrapper_without_a_rate_rescales_the_cache_with_a_warning(tmp_path, refe
     assert result.exit_code == 1, result.stderr
     lines = [line for line in result.stderr.splitlines() if "timeCodesPerSecond" in line]
     assert lines == [f"usdksl: warning: {warning}"]
+    # the cache's own contacts, at its times in the wrapper's time codes (24/30 of them)
+    alone = run_cli("check", cache, "--out", tmp_path / "alone")
+    assert alone.exit_code == 1, alone.stderr
+    rescaled = contact_rows(tmp_path / "out" / "shot.contacts.csv")
+    own = contact_rows(tmp_path / "alone" / "cache.contacts.csv")
+    assert set(rescaled) == set(own) and own
+    assert all(rescaled[pair] == pytest.approx(0.8 * own[pair], rel=1e-12) for pair in own), (rescaled, own)
 
 
 def test_matching_rates_and_the_cache_alone_give_no_warning(tmp_path):
@@ -40,7 +47,10 @@ def test_package_relative_path_opens_and_missing_ones_fail_in_one_line(tmp_path)
     inner = f"{package}[scene.usda]"
     result = run_cli("check", inner, "--out", tmp_path / "out")
     assert result.exit_code == 1, result.stderr
-    assert (tmp_path / "out" / "props.scene.contacts.csv").is_file()
+    unpacked = run_cli("check", scene, "--out", tmp_path / "unpacked")
+    assert unpacked.exit_code == 1, unpacked.stderr
+    assert ((tmp_path / "out" / "props.scene.contacts.csv").read_bytes()
+            == (tmp_path / "unpacked" / "scene.contacts.csv").read_bytes())
     assert (tmp_path / "out" / "props.scene.usdksl.usda").is_file()
     assert file_digest(package) == digest
     for missing in (f"{package}[nope.usda]", str(tmp_path / "nope.usda")):

@@ -201,3 +201,40 @@ def test_visibility_over_the_range(tmp_path):
     assert set(plan.skipped_meshes) == {0, 2}
     assert set(plan_pairs(paths, ["deforming"] * 3, np.ones(3, bool), whole,
                           ScopeOptions(include_invisible=True)).skipped_meshes) == set()
+
+
+#: Where usdksl:selfCollision is authored (prim below /World: value) and whether the mesh at the end of each
+#: hierarchy is then checked against itself: the value of the mesh or of its nearest ancestor that authors
+#: one wins (docs/contracts.md, What is checked), however far up the others are.
+SELF_COLLISION_HIERARCHIES = {
+    "On/Cloth": ({"On": True, "On/Cloth": False}, False),
+    "Off/Cloth": ({"Off": False, "Off/Cloth": True}, True),
+    "OnAbove/Cloth": ({"OnAbove": True}, True),
+    "OffAbove/Cloth": ({"OffAbove": False}, False),
+    "Far/Near/Between/Cloth": ({"Far": False, "Far/Near": True}, True),
+    "FarOn/NearOff/Between/Cloth": ({"FarOn": True, "FarOn/NearOff": False}, False),
+    "Top/Middle/Bottom/Cloth": ({"Top": True, "Top/Middle": False, "Top/Middle/Bottom": True}, True),
+    "Plain/Cloth": ({}, True),
+}
+
+
+def test_the_nearest_authored_self_collision_wins(tmp_path):
+    path = tmp_path / "self_collision.usda"
+    stage = new_stage(path)
+    for k, (mesh, (authored, _)) in enumerate(sorted(SELF_COLLISION_HIERARCHIES.items())):
+        parts = mesh.split("/")
+        for depth in range(1, len(parts)):
+            UsdGeom.Xform.Define(stage, "/World/" + "/".join(parts[:depth]))
+        add_mesh(stage, f"/World/{mesh}", None, samples=falling_quad_samples(offset=(3.0 * k, 0, 0)))
+        for prim, value in authored.items():
+            stage.GetPrimAtPath(f"/World/{prim}").CreateAttribute(
+                "usdksl:selfCollision", Sdf.ValueTypeNames.Bool).Set(value)
+    stage.GetRootLayer().Save()
+
+    plan = plan_shot(load_shot(str(path)))
+    checked_self = {plan.paths[i] for i, j in plan.pairs.tolist() if i == j}
+    disabled = {plan.paths[i] for i, j, reason in plan.skipped_pairs
+                if i == j and reason == PAIR_SELF_DISABLED_BY_ATTRIBUTE}
+    expected = {f"/World/{mesh}" for mesh, (_, checked) in SELF_COLLISION_HIERARCHIES.items() if checked}
+    assert checked_self == expected
+    assert disabled == {f"/World/{mesh}" for mesh in SELF_COLLISION_HIERARCHIES} - expected

@@ -2,6 +2,7 @@
 the stretches where they have points, every other mesh checked throughout (docs/contracts.md, Topology)."""
 
 import csv
+import json
 
 import numpy as np
 import pytest
@@ -107,6 +108,42 @@ def test_a_bad_sample_leaves_out_only_its_stretch(tmp_path, clean, bad):
     strict = run_cli("check", shot, "--out", tmp_path / "strict", "--strict")
     assert strict.exit_code == 2, strict.stderr
     assert "/World/Cloth" in strict.stderr and not (tmp_path / "strict").exists()
+
+
+@pytest.mark.parametrize("bad, gap", [({15.0: "block"}, (14.0, 16.0)), ({15.0: "empty"}, (14.0, 16.0)),
+                                      ({1.0: "block"}, (1.0, 2.0)), ({23.0: "block", 24.0: "block"}, (22.0, 24.0))],
+                         ids=["block-resting", "empty-resting", "block-first", "blocked-tail"])
+def test_a_bad_sample_is_a_not_checked_stretch_of_the_coverage_between_the_samples_around_it(tmp_path, bad, gap):
+    # docs/contracts.md, Topology and gaps: the gap runs from the last sample with points before it to the
+    # first after it (the checked range's ends where there is none), kind usdksl:EmptySample.
+    shot = resting_sheets(tmp_path / "bad.usda", bad)
+    report = tmp_path / "report.json"
+    result = run_cli("check", shot, "--out", tmp_path / "out", "--json", report)
+    assert result.exit_code == 1, result.stderr
+    document = json.loads(report.read_text())
+    unchecked = [entry for entry in document["coverage"]["entries"] if entry["status"] != "checked"]
+    assert [(e["prim"], e["status"], e["kind"], e["start"], e["end"]) for e in unchecked] == [
+        ("/World/Cloth", "not checked", EMPTY_SAMPLE, *gap)]
+    assert [finding["kind"] for finding in document["findings"]] == [EMPTY_SAMPLE]
+    assert result.stderr.splitlines()[-1].endswith(
+        "NOT CHECKED: 1 item on 1 prim (see the warnings, -v or the JSON report's coverage)")
+
+
+def test_a_contact_made_inside_a_gap_is_reported_where_the_gap_ends(tmp_path, clean):
+    # The cloth reaches its floor at t = 11, the blocked sample: the mesh is left out of the piece from 10
+    # to 12, and from 12 on it rests on the floor, already touching where its piece begins.
+    shot = resting_sheets(tmp_path / "bad.usda", {CONTACT_TIME: "block"})
+    result = run_cli("check", shot, "--out", tmp_path / "out")
+    assert result.exit_code == 1, result.stderr
+    with open(tmp_path / "out" / "bad.contacts.csv", newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    cloth = [row for row in rows if row["prim_a"] == "/World/Cloth"]
+    assert {(row["time"], row["feature"]) for row in cloth} == {("12.0", "initial")}
+    assert sorted((r["prim_a"], int(r["face_a"]), r["prim_b"], int(r["face_b"])) for r in cloth) == sorted(
+        (a, fa, b, fb) for a, fa, b, fb, _ in clean if a == "/World/Cloth")
+    other = [(r["prim_a"], int(r["face_a"]), r["prim_b"], int(r["face_b"]), float(r["time"])) for r in rows
+             if r["prim_a"] == "/World/Other"]
+    assert other == [row for row in clean if row[0] == "/World/Other"]
 
 
 def test_a_mesh_empty_at_every_sample_is_an_empty_mesh(tmp_path):

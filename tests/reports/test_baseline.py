@@ -105,6 +105,16 @@ def test_time_tolerance(fold, own, tmp_path):
     assert "usdksl: 132 new, 0 known, 132 fixed" in tight.stderr
 
 
+@pytest.mark.parametrize("tolerance", ["0", "1e-9"])
+def test_own_baseline_at_a_zero_or_tiny_time_tolerance_is_clean(fold, own, tmp_path, tolerance):
+    # contacts.csv writes each time as repr(float), which reads back to the same double: every contact lies
+    # exactly at its entry's time, within any tolerance, 0 included (docs/contracts.md, Baselines).
+    result = _run("check", fold, "--out", tmp_path / "now", "--baseline", own, "--baseline-time-tolerance", tolerance)
+    assert result.exit_code == 0, result.output
+    assert "usdksl: 0 new, 132 known, 0 fixed" in result.stderr
+    assert {row["baseline"] for row in _rows(tmp_path / "now" / "fold.contacts.csv")} == {"known"}
+
+
 @pytest.mark.parametrize("text, words", [
     ("prim_a,face_a\n/A,1\n", "baseline header lacks column(s) prim_b"),
     ("prim_a,face_a,prim_b,face_b\n/A,one,/B,2\n", "line 2: face_a 'one' is not a face index"),

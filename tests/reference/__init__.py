@@ -1,0 +1,1 @@
+"""Test support: references that share no code with the product (see tight_inclusion.py)."""
