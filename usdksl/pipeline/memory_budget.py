@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 import os
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Iterable, List, Optional, Tuple, Union
 
 import numpy as np
@@ -73,7 +73,7 @@ class ShotSize:
     span: Optional[TimeRange] = None
     #: Time codes at which every animated mesh has a sample (None: no animated mesh): where a shot can be cut
     #: into parts that usdksl merge joins exactly.
-    shared_samples: Optional[np.ndarray] = None
+    shared_samples: Optional[np.ndarray] = field(default=None, compare=False)
 
 
 def parse_memory_size(text: Union[str, int, None]) -> Optional[int]:
