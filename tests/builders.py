@@ -551,3 +551,25 @@ def wrapper_around_cache(directory, cache_rate=30.0, wrapper_rate=None, referenc
         wrapper.subLayerPaths.append("./cache.usda")
     wrapper.Save()
     return wrapper_path, cache_path
+
+
+#: The time codes of :func:`resting_sheets` (a sample every frame) and when its sheets come to rest.
+RESTING_SHEETS_TIMES = [float(t) for t in range(1, 25)]
+RESTING_SHEETS_REST = 11.0
+
+
+def resting_sheets(path, bad=None):
+    """Two 3x3 sheets, each falling onto a floor of its own (y = (11 - t) / 10) and resting there from t = 11, a
+    sample every frame 1..24; ``bad`` {time: 'empty' | 'block'} spoils samples of /World/Cloth only."""
+    stage = new_stage(path, start=1.0, end=24.0)
+    for name, x in (("Cloth", 0.0), ("Other", 10.0)):
+        points, counts, indices = grid(3, 3, 2.0, 2.0, center=(x, 0.0, 0.0))
+        floor, floor_counts, floor_indices = grid(1, 1, 4.0, 4.0, center=(x, 0.0, 0.0))
+        define_mesh(stage, f"/World/{name}Floor", floor, floor_counts, floor_indices)
+        samples = {t: points + [0.0, max(0.0, (RESTING_SHEETS_REST - t) / 10.0), 0.0] for t in RESTING_SHEETS_TIMES}
+        mesh = define_mesh(stage, f"/World/{name}", None, counts, indices, samples=samples)
+        if name == "Cloth":
+            for time, kind in (bad or {}).items():
+                mesh.GetPointsAttr().Set(Sdf.ValueBlock() if kind == "block" else Vt.Vec3fArray(), time)
+    stage.GetRootLayer().Save()
+    return str(path)

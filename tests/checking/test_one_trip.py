@@ -3,9 +3,9 @@ loader's own mesh sources), builds the contact table and the clock once, and val
 
 import pytest
 from click.testing import CliRunner
-from pxr import Sdf, Usd
+from pxr import Usd
 
-from builders import define_mesh, falling_instancer, grid, new_stage
+from builders import RESTING_SHEETS_TIMES, falling_instancer, resting_sheets
 from usdksl.cli.main import main
 from usdksl.clock import StageClock
 from usdksl.errors import UsdkslUsageError
@@ -17,27 +17,13 @@ from usdksl.pipeline.options import CheckOptions
 from usdksl.reading import loader
 from usdksl.reading.loader import find_mesh_sources, load_shot, load_sources
 
-#: Time codes of every sample of the sheets below (one per frame).
-TIMES = [float(t) for t in range(1, 25)]
-#: When the sheets come to rest on their floors (time codes): they fall from y = 1 at t = 1.
-REST_TIME = 11.0
+TIMES = RESTING_SHEETS_TIMES
 
 
 def falling_sheets(path, blocked=()):
-    """Two 3x3 sheets falling onto a floor each and resting there from REST_TIME; ``blocked`` time codes at which
-    /World/Cloth's points are blocked (the check then cuts the range around the gap)."""
-    stage = new_stage(path, start=1.0, end=24.0)
-    for name, x in (("Cloth", 0.0), ("Other", 10.0)):
-        points, counts, indices = grid(3, 3, 2.0, 2.0, center=(x, 0.0, 0.0))
-        floor, floor_counts, floor_indices = grid(1, 1, 4.0, 4.0, center=(x, 0.0, 0.0))
-        define_mesh(stage, f"/World/{name}Floor", floor, floor_counts, floor_indices)
-        samples = {t: points + [0.0, max(0.0, (REST_TIME - t) / 10.0), 0.0] for t in TIMES}
-        mesh = define_mesh(stage, f"/World/{name}", None, counts, indices, samples=samples)
-        if name == "Cloth":
-            for time in blocked:
-                mesh.GetPointsAttr().Set(Sdf.ValueBlock(), time)
-    stage.GetRootLayer().Save()
-    return str(path)
+    """:func:`builders.resting_sheets` with /World/Cloth's points blocked at the ``blocked`` time codes (the check
+    then cuts the range around the gap)."""
+    return resting_sheets(path, {time: "block" for time in blocked})
 
 
 @pytest.fixture

@@ -6,9 +6,9 @@ import json
 
 import numpy as np
 import pytest
-from pxr import Sdf, Vt
+from pxr import Vt
 
-from builders import define_mesh, grid, new_stage
+from builders import RESTING_SHEETS_REST, RESTING_SHEETS_TIMES, resting_sheets
 from .conftest import run_cli
 from usdksl.errors import UsdkslInputError
 from usdksl.reading.segments import Gap, Stretch, absent_meshes, cut_range, is_topology_change, mesh_gaps
@@ -52,26 +52,8 @@ def test_topology_errors_are_recognised():
 
 # --------------------------------------------------------------------------------------------- whole shots
 
-TIMES = [float(t) for t in range(1, 25)]
-CONTACT_TIME = 11.0   # the sheets come down at y = (11 - t) / 10 and rest on their floors from then on
-
-
-def resting_sheets(path, bad=None):
-    """Two 3x3 sheets, each falling onto a floor of its own and resting there from t = 11 (a sample every frame);
-    ``bad`` {time: 'empty' | 'block'} spoils samples of /World/Cloth only."""
-    stage = new_stage(path, start=1.0, end=24.0)
-    for name, x in (("Cloth", 0.0), ("Other", 10.0)):
-        points, counts, indices = grid(3, 3, 2.0, 2.0, center=(x, 0.0, 0.0))
-        floor, floor_counts, floor_indices = grid(1, 1, 4.0, 4.0, center=(x, 0.0, 0.0))
-        define_mesh(stage, f"/World/{name}Floor", floor, floor_counts, floor_indices)
-        samples = {t: points + [0.0, max(0.0, (CONTACT_TIME - t) / 10.0), 0.0] for t in TIMES}
-        mesh = define_mesh(stage, f"/World/{name}", None, counts, indices, samples=samples)
-        if name == "Cloth":
-            for time, kind in (bad or {}).items():
-                value = Sdf.ValueBlock() if kind == "block" else Vt.Vec3fArray()
-                mesh.GetPointsAttr().Set(value, time)
-    stage.GetRootLayer().Save()
-    return str(path)
+TIMES = RESTING_SHEETS_TIMES
+CONTACT_TIME = RESTING_SHEETS_REST   # the sheets come down at y = (11 - t) / 10 and rest from then on
 
 
 def contacts(out, stem):
