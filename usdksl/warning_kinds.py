@@ -29,3 +29,5 @@ EMPTY_MESH = "usdksl:EmptyMesh"
 SPARSE_SKIN_KEYS = "usdksl:SparseSkinKeys"
 #: No mesh pair is left to check, or the requested time range holds no sample.
 NOTHING_CHECKED = "usdksl:NothingChecked"
+#: More than half of the prims a baseline names are not meshes of the shot: made from another shot?
+BASELINE_MISMATCH = "usdksl:BaselineMismatch"

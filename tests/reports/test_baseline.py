@@ -199,3 +199,45 @@ def test_an_empty_table_fixes_every_entry():
                         np.array([np.nan]))
     comparison = compare(ContactTable.empty(["/a"]), baseline)
     assert comparison.new_count == 0 and comparison.fixed.tolist() == [0]
+
+
+MISMATCH = "usdksl: warning: {}: {} of {} prims in the baseline are not meshes of {}: made from another shot?"
+
+
+def test_a_baseline_of_another_shot_warns_once(samples_dir, fold, tmp_path):
+    earlier = _run("check", samples_dir / "drape.usda", "--out", tmp_path / "earlier")
+    assert earlier.exit_code == 1, earlier.output
+    drape = tmp_path / "earlier" / "drape.contacts.csv"
+    result = _run("check", fold, "--out", tmp_path / "now", "--baseline", drape, "--json", tmp_path / "r.json")
+    assert result.exit_code == 1
+    lines = [line for line in result.stderr.splitlines() if "in the baseline are not meshes of" in line]
+    assert lines == [MISMATCH.format(drape, 2, 2, fold)], result.stderr
+    findings = json.loads((tmp_path / "r.json").read_text())["findings"]
+    assert [f["kind"] for f in findings if "in the baseline" in f["text"]] == ["usdksl:BaselineMismatch"]
+
+
+def test_the_shots_own_baseline_does_not_warn(fold, own, tmp_path):
+    result = _run("check", fold, "--out", tmp_path / "now", "--baseline", own)
+    assert result.exit_code == 0 and "made from another shot" not in result.stderr, result.stderr
+
+
+@pytest.mark.parametrize("prims, warns", [
+    (["/World/Strip", "/Other/A"], False),                    # half foreign: not more than half
+    (["/World/Strip", "/Other/A", "/Other/B"], True),
+    (["/World/Strip", "/World", "/World/Strip[2]"], True),   # an Xform and a bad path are not meshes
+])
+def test_more_than_half_of_the_prims_foreign_warns(fold, tmp_path, prims, warns):
+    accept = tmp_path / "accept.csv"
+    accept.write_text("prim_a,prim_b\n" + "".join(f"{prim},{prim}\n" for prim in prims))
+    result = _run("check", fold, "--out", tmp_path / "now", "--baseline", accept)
+    assert result.exit_code in (0, 1), result.output
+    assert ("made from another shot" in result.stderr) == warns, result.stderr
+
+
+def test_a_mesh_left_out_by_prims_is_still_a_mesh_of_the_shot(samples_dir, tmp_path):
+    drape = samples_dir / "drape.usda"
+    assert _run("check", drape, "--out", tmp_path / "earlier").exit_code == 1
+    result = _run("check", drape, "--out", tmp_path / "now", "--prims", "/World/Cloth",
+                  "--baseline", tmp_path / "earlier" / "drape.contacts.csv")
+    assert result.exit_code in (0, 1), result.output
+    assert "made from another shot" not in result.stderr, result.stderr

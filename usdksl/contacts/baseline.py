@@ -27,7 +27,7 @@ import io
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import List, Optional, Tuple, Union
+from typing import Callable, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -45,6 +45,9 @@ WILDCARD = -1
 WILDCARD_ORDER = np.iinfo(np.int64).max
 #: Lines starting with this are comments.
 COMMENT = "#"
+#: Fraction (0..1) of a baseline's distinct prims that may fail to be meshes of the shot before the check
+#: warns that the baseline was made from another shot.
+MISMATCH_FRACTION = 0.5
 
 
 @dataclass
@@ -282,6 +285,18 @@ def _any_within(query_ids, query_times, reference_ids, reference_times, toleranc
     return found
 
 
+def mismatch_warning(baseline: Baseline, is_mesh: Callable[[str], bool], shot: str) -> Optional[str]:
+    """The warning for a baseline of which more than MISMATCH_FRACTION of the distinct prims it names are
+    not meshes of ``shot`` (``is_mesh(prim_path)``), or None. Such a baseline accepts nothing (or accepts
+    by accident), so every contact would silently count as new."""
+    named = sorted(set(baseline.prim_a.tolist()) | set(baseline.prim_b.tolist()))
+    foreign = sum(1 for prim in named if not is_mesh(prim))
+    if not named or foreign <= MISMATCH_FRACTION * len(named):
+        return None
+    return (f"{baseline.source}: {foreign} of {len(named)} prims in the baseline are not meshes of {shot}: "
+            f"made from another shot?")
+
+
 def baseline_for_shot(baseline: Optional[Union[str, os.PathLike]], shot_stem: str,
                       time_tolerance: Optional[float] = None) -> Tuple[Optional[Baseline], Optional[str]]:
     """(the baseline of one shot or None, a warning or None). ``baseline`` is a file, or a folder holding
@@ -298,4 +313,5 @@ def baseline_for_shot(baseline: Optional[Union[str, os.PathLike]], shot_stem: st
     return read_baseline(path, time_tolerance), None
 
 
-__all__ = ["ANY_FACE", "Baseline", "BaselineComparison", "baseline_for_shot", "compare", "read_baseline"]
+__all__ = ["ANY_FACE", "Baseline", "BaselineComparison", "baseline_for_shot", "compare", "mismatch_warning",
+           "read_baseline"]

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..checking.collision import default_threads, find_contacts
 from ..clock import StageClock
-from ..contacts.baseline import Baseline, BaselineComparison, compare
+from ..contacts.baseline import Baseline, BaselineComparison, compare, mismatch_warning
 from ..contacts.table import ContactTable
 from ..errors import UsdkslInputError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
@@ -26,7 +26,7 @@ from ..reading.loader import find_mesh_sources
 from ..reading.scope import (PAIR_RIGID_ONLY, PAIR_SELF_RIGID, PAIR_SELF_STATIC, PAIR_STATIC_STATIC, Plan, ScopeOptions,
                              include_predicate, keep_pairs_across_segments, merge_plans, plan_shot)
 from ..reports.formats import mesh_pair_lines
-from ..warning_kinds import EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
+from ..warning_kinds import BASELINE_MISMATCH, EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .coverage import shot_coverage
 from .files import OutputTargets, concatenate_pieces, render_files
 from .loading import PlannedShot, checked_span, load_segments, report_blowups, require_samples_in_range
@@ -174,6 +174,9 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
     clock = StageClock.from_metadata(planned.segments[0][1].metadata)
     comparison = None
     if baseline is not None:
+        mismatch = mismatch_warning(baseline, _mesh_of(planned.segments[0][1].stage, table.paths), name)
+        if mismatch is not None:
+            say(WARNING, mismatch, BASELINE_MISMATCH)
         comparison = compare(table, baseline)
         for level, text in baseline_messages(comparison, clock):
             say(level, text)
@@ -195,6 +198,27 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
                        messages=messages, files=files, stdout=stdout,
                        segments=[(r, t) for (r, _), t in zip(planned.segments, tables)], clock=clock,
                        baseline=comparison, threads=options.threads or default_threads(), coverage=planned.coverage)
+
+
+def _mesh_of(stage, loaded: Optional[Sequence[str]]) -> Callable[[str], bool]:
+    """is_mesh(prim_path): a mesh the check loaded, or one on the stage it left out (scoped out by --prims,
+    purpose, visibility...), or an instance of a PointInstancer on the stage (``/World/scatter[3]/box``)."""
+    from pxr import Sdf, UsdGeom
+
+    known = set(loaded or ())
+
+    def is_mesh(path: str) -> bool:
+        if path in known:
+            return True
+        if stage is None:
+            return False
+        # an instance path (/World/scatter[3]/box) is not an Sdf path; its instancer's part is
+        prim_path, instance = path.split("[", 1)[0], "[" in path
+        if not Sdf.Path.IsValidPathString(prim_path) or not Sdf.Path(prim_path).IsAbsolutePath():
+            return False
+        prim = stage.GetPrimAtPath(prim_path)
+        return bool(prim) and prim.IsA(UsdGeom.PointInstancer if instance else UsdGeom.Mesh)
+    return is_mesh
 
 
 def baseline_messages(comparison: BaselineComparison, clock: StageClock) -> List[Tuple[str, str]]:

@@ -21,13 +21,14 @@ from ..reading.scope import Plan
 from ..reading.segments import topology_epochs
 from ..reports.formats import json_report, summary_csv
 from ..reports.output import check_writable_directory, resolve_output_path
-from ..reports.override import override_layer, override_layer_name, shot_stem
+from ..reports.override import override_layer, override_layer_name, provenance_data, shot_stem
+from ..reports.shot_hash import file_sha256
 from ..version import package_version
 from .coverage import Coverage
 from .options import CheckOptions, TimeRange
 
 # Imported where they are used, so that a plain check does not pay for them at start-up: the JUnit
-# writer (xml.etree), a farm chunk's manifest (hashlib) and the contact timeline.
+# writer (xml.etree), a farm chunk's manifest and the contact timeline.
 
 #: What write_files publishes at a target: text, bytes, or None (remove the file if there is one).
 FileData = Optional[Union[str, bytes]]
@@ -104,15 +105,18 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     if crosscheck_text is not None:
         files[targets.crosscheck_csv(shot)] = crosscheck_text
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
+    # one read of the root layer per check: the override layer and a farm chunk's manifest both name it
+    shot_sha256 = file_sha256(root_layer_file(shot))
     layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
                            segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
-                           else None, span=span)
+                           else None, span=span,
+                           provenance=provenance_data(shot_sha256, options.settings()))
     files[targets.override_layer(shot, layer.binary)] = layer.data()
     files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
     if options.time_range is not None:
-        from ..reports.manifest import file_sha256, manifest_text
+        from ..reports.manifest import manifest_text
 
-        files[targets.manifest(shot)] = manifest_text(name, file_sha256(shot), options.settings(), span, plan,
+        files[targets.manifest(shot)] = manifest_text(name, shot_sha256, options.settings(), span, plan,
                                                       len(segments), package_version())
     stdout = None
     if targets.json_path is not None or targets.json_to_stdout:
@@ -135,6 +139,15 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
 
         files[targets.plot_path] = timeline_png(table, clock, span, name, known)
     return files, stdout
+
+
+def root_layer_file(shot: str) -> str:
+    """The file on disk that holds the shot's root layer: the package for a package-relative path
+    (``pkg.usdz[scene.usdc]``), whose hash then covers the layer inside it."""
+    text = os.fspath(shot)
+    if text.endswith("]") and "[" in text and not os.path.isfile(text):
+        return text.split("[", 1)[0]
+    return text
 
 
 def concatenate_pieces(segments, tables: Sequence[ContactTable]) -> ContactTable:

@@ -8,23 +8,13 @@ checked and the number of constant-topology segments, and the usdksl version.
 
 from __future__ import annotations
 
-import hashlib
 import json
 from pathlib import Path
 from typing import List, Optional, Sequence, Tuple, Union
 
+from .shot_hash import file_sha256
+
 MANIFEST_SUFFIX = ".usdksl-run.json"
-#: Bytes read at a time when hashing the shot.
-_HASH_BLOCK_BYTES = 1 << 20
-
-
-def file_sha256(path: Union[str, Path]) -> str:
-    """Hex SHA-256 of a file's bytes (the shot's root layer; layers it references are not included)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(_HASH_BLOCK_BYTES), b""):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 def checked_pairs(plan) -> List[List[str]]:

@@ -32,6 +32,11 @@ Per checked mesh it authors:
     the ``displayColor`` primvar, so the colours show in usdview (which renders the preview purpose)
     with scene materials on. Renders of the ``full`` purpose keep the scene's materials.
 
+Its ``customLayerData`` holds one dictionary, ``usdksl``, saying what produced it (docs/contracts.md,
+Outputs): ``string shotSha256`` (SHA-256 of the shot's root layer
+file, as the farm manifest names it) and ``dictionary settings`` (the check's settings, as the JSON report
+has them: a setting that is None is left out, lists of strings are ``string[]``, of numbers ``double[]``).
+
 The layer is written as text (``.usdksl.usda``) unless it authors more than :data:`USDA_MAX_ARRAY_ELEMENTS`
 array elements; then as a binary crate file (``.usdksl.usdc``), which is smaller and much faster to
 open.
@@ -89,6 +94,8 @@ MATERIAL_BIND_FAMILY = "materialBind"
 REVIEW_ROUGHNESS = 0.8
 #: More distinct first-contact times than this on one mesh: colour samples on whole time codes.
 MAX_EXACT_COLOR_SAMPLES = 256
+#: The customLayerData key of the provenance dictionary (module docstring).
+PROVENANCE_KEY = "usdksl"
 #: A layer with more array elements than this is written as a binary crate (.usdc) instead of text.
 USDA_MAX_ARRAY_ELEMENTS = 100_000
 TEXT_SUFFIX = ".usdksl.usda"
@@ -153,14 +160,43 @@ class OverrideLayer:
 
 
 def build_override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union[str, os.PathLike],
-                         segments: Optional[Sequence[tuple]] = None, span: Optional[Tuple[float, float]] = None) -> str:
+                         segments: Optional[Sequence[tuple]] = None, span: Optional[Tuple[float, float]] = None,
+                         provenance: Optional[dict] = None) -> str:
     """The override layer's usda text (see :func:`override_layer`)."""
-    return override_layer(shot, checked_meshes, table, layer_path, segments, span).layer.ExportToString()
+    return override_layer(shot, checked_meshes, table, layer_path, segments, span,
+                          provenance).layer.ExportToString()
+
+
+def provenance_data(shot_sha256: str, settings: dict) -> dict:
+    """The ``usdksl`` customLayerData dictionary (module docstring) from the check's settings
+    (CheckOptions.settings()): only values a USD dictionary can hold. The usdksl version is not in it: looking it
+    up (importlib.metadata) costs every check tens of milliseconds of start-up."""
+    return {"shotSha256": str(shot_sha256), "settings": _usd_dictionary(settings)}
+
+
+def _usd_dictionary(values: dict) -> dict:
+    """``values`` with None left out (a USD dictionary has no null) and lists as typed VtArrays."""
+    from pxr import Vt
+
+    result = {}
+    for key, value in values.items():
+        if value is None:
+            continue
+        if isinstance(value, dict):
+            value = _usd_dictionary(value)
+        elif isinstance(value, (list, tuple)):
+            # an empty list has no element type to go by; the settings' lists of paths are strings
+            numeric = bool(value) and all(isinstance(item, (int, float)) and not isinstance(item, bool)
+                                          for item in value)
+            value = (Vt.DoubleArray([float(item) for item in value]) if numeric
+                     else Vt.StringArray([str(item) for item in value]))
+        result[str(key)] = value
+    return result
 
 
 def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union[str, os.PathLike],
                    segments: Optional[Sequence[tuple]] = None,
-                   span: Optional[Tuple[float, float]] = None) -> OverrideLayer:
+                   span: Optional[Tuple[float, float]] = None, provenance: Optional[dict] = None) -> OverrideLayer:
     """The override layer for ``shot`` (usdksl.reading.loader.Shot) and its ContactTable.
 
     ``checked_meshes``: indices into shot.meshes that took part in at least one checked pair.
@@ -171,6 +207,7 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
     its per-face primvars as time samples per segment (one value per face of the topology in force);
     the mesh-level values cover all segments, and ``usdksl:contactFaceCount`` then adds up the touching
     faces of every segment.
+    ``provenance``: the ``usdksl`` customLayerData dictionary (:func:`provenance_data`); None: none written.
     """
     from pxr import Sdf, Vt
 
@@ -187,6 +224,8 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
     if metadata.get("defaultPrim"):
         layer.defaultPrim = str(metadata["defaultPrim"])
     layer.comment = "usdksl check results: override layer over the cache it sublayers"
+    if provenance is not None:
+        layer.customLayerData = {PROVENANCE_KEY: provenance}
     if span is None:
         times = np.asarray(shot.times, dtype=np.float64)
         span = (float(times.min()), float(times.max())) if times.size else (0.0, 0.0)
@@ -406,5 +445,5 @@ def shot_stem(shot_path: Union[str, os.PathLike]) -> str:
     return Path(text).stem
 
 
-__all__ = ["OverrideLayer", "override_layer", "color_sample_times", "build_override_layer", "face_first_contact_times", "touched_meshes", "relative_sublayer_path",
+__all__ = ["OverrideLayer", "override_layer", "provenance_data", "color_sample_times", "build_override_layer", "face_first_contact_times", "touched_meshes", "relative_sublayer_path",
            "override_layer_name", "shot_stem"]
