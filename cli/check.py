@@ -1,9 +1,9 @@
 """``usdksl check SHOT [SHOT...]``: first contacts of whole shots, written to CSV and to USD override layers.
 
-Streams: stdout stays empty (or carries the JSON document with ``--json -``) so pipelines can parse it;
-everything else goes to stderr. By default: warnings, the baseline's new and fixed contacts, one line per
-shot (counts and the first contact's frame) and, for several shots, a total line; ``-v`` adds the plan
-(what is checked and why the rest is not), one line per mesh pair and the files written; ``-q`` prints
+Streams: stdout stays empty (or carries the JSON document with ``--json -``, JSON Lines for several shots)
+so pipelines can parse it; everything else goes to stderr. By default: warnings, the baseline's new and
+fixed contacts, one line per shot (counts and the first contact's frame) and, for several shots, a total
+line; ``-v`` adds the plan (what is checked and why the rest is not), one line per mesh pair and the files written; ``-q`` prints
 errors only. A progress bar is drawn on a terminal (not in CI, not with ``-q``). ``--junit`` is written
 whatever the exit code (an <error> test case for a shot that could not be checked). Exit codes: 0 clean, 1 contacts found, 2 usage or input error (nothing
 written for that shot), 3 the cross-check disagrees; the worst (largest) over all shots.
@@ -41,7 +41,7 @@ def _echo(line: str) -> None:
 
 @click.command()
 @click.argument("shots", nargs=-1, required=True, metavar="SHOT [SHOT...]",
-                type=click.Path(dir_okay=False, path_type=str))
+                type=click.Path(path_type=str))
 @click.option("--out", "out", type=click.Path(path_type=str), default=None,
               help="Directory for <stem>.contacts.csv, <stem>.summary.csv, <stem>.usdksl.usda "
                    "(default: beside SHOT; created when missing).")
@@ -86,7 +86,8 @@ def _echo(line: str) -> None:
                    "a tick at each first contact. Turns on --last-contact. Needs matplotlib "
                    "(pip install 'usdksl[plot]'). One shot only.")
 @click.option("--json", "json_path", metavar="FILE", default=None,
-              help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout.")
+              help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout. With "
+                   "several shots: JSON Lines, one compact document per shot in the order given.")
 @click.option("--junit", "junit_path", metavar="FILE", default=None,
               help="Also write a JUnit XML report, whatever the exit code: one testsuite per shot, one testcase "
                    "per checked pair; an <error> test case for a shot that cannot be checked.")
@@ -125,13 +126,17 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
           verbosity, jobs, scheduler, timeout, threads, memory_limit):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
-    Quoted globs ('shots/*.usd') are expanded. Exit code 0: clean; 1: contacts found; 2: usage or input
-    error (no output written for that shot); 3: the cross-check disagrees; the worst over all shots.
+    Quoted globs ('shots/*.usd') are expanded; a folder stands for the USD files in it (not in its
+    subfolders). Exit code 0: clean; 1: contacts found; 2: usage or input error (no output written for
+    that shot); 3: the cross-check disagrees; the worst over all shots.
     The plan, warnings and the summary lines go to stderr; stdout only carries --json - .
     Ctrl-C (SIGINT) and SIGTERM stop the check within a second or two with one line and exit 130 / 143;
     files of a shot not finished are never written.
     """
-    shots = expand_shots(shots)
+    try:
+        shots = expand_shots(shots)
+    except UsdkslInputError as error:   # a folder without USD files: its <error> test case names the folder
+        _fail([error.file], error.one_line(), junit_path, error.exit_code)
     try:   # a value the check cannot use is refused here, before any work
         options = CheckOptions(method=method, tolerance=tolerance, thickness=thickness, self_check=self_check,
                                inter_check=inter_check, time_range=time_range, prims=tuple(prims),
@@ -229,7 +234,8 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
                 verbosity, plot_path, finished):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
     ``finished`` collects the outcomes shown (their files are written)."""
-    from usdksl.scale.batch import junit_for_outcomes, make_jobs, run_batch, run_here, total_line, worst_exit_code
+    from usdksl.scale.batch import (json_for_outcomes, junit_for_outcomes, make_jobs, run_batch, run_here,
+                                    total_line, worst_exit_code)
     from usdksl.scale.batch_progress import BatchProgress
 
     if jobs is not None and scheduler is not None:
@@ -255,11 +261,19 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
             outcomes = run_batch(entries, options, runner, on_outcome=show, progress=bar)
         finally:
             bar.close()
+        json_text = json_for_outcomes(outcomes) if json_path else None
+        reports = {}
         if junit_path:
-            write_files({junit_path: junit_for_outcomes(outcomes)})
+            reports[junit_path] = junit_for_outcomes(outcomes)
+        if json_text is not None and json_path != "-":
+            reports[json_path] = json_text
+        if reports:
+            write_files(reports)
     except UsdkslInputError as error:
         _fail(shots, error.one_line(), junit_path, error.exit_code)
     with deferred_stops(drop=True):
+        if json_text is not None and json_path == "-":
+            sys.stdout.write(json_text)
         if verbosity >= NORMAL:
             _echo(total_line(outcomes))
         sys.exit(worst_exit_code(outcomes))

@@ -10,6 +10,7 @@ the task was run again) cannot write anything twice.
 
 from __future__ import annotations
 
+import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,6 +28,7 @@ from ..reports.junit import error_suite, junit_document, shot_suite
 from ..reports.output import check_writable_directory, write_files
 from ..reports.override import shot_stem
 from ..stopping import deferred_stops
+from ..version import package_version
 from .batch_progress import BatchProgress
 
 
@@ -69,14 +71,16 @@ def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str]
               baseline_time_tolerance: Optional[float] = None, plot_path: Optional[str] = None) -> List[object]:
     """A ShotJob per shot, or a failed ShotOutcome for a shot whose file or output folder is unusable.
 
-    ``junit_path`` is only checked to be writable: the jobs do not write it, the caller writes one document
-    for all shots (:func:`junit_for_outcomes`). Raises UsdkslUsageError when the call cannot work at all:
-    --json or a baseline file (not a folder) with several shots, a baseline that does not exist, or two
-    shots that would write the same files."""
-    if len(shots) > 1 and (json_path or plot_path):
-        raise UsdkslUsageError(f"--json and --plot take one shot; got {len(shots)}")
-    if junit_path:
-        check_writable_directory(Path(junit_path).resolve().parent)
+    ``junit_path`` and ``json_path`` are only checked to be writable: the jobs do not write them, the caller
+    writes one document for all shots (:func:`junit_for_outcomes`, :func:`json_for_outcomes`); each job's
+    JSON document comes back as its result's ``stdout``. Raises UsdkslUsageError when the call cannot work
+    at all: --plot or a baseline file (not a folder) with several shots, a baseline that does not exist, or
+    two shots that would write the same files."""
+    if len(shots) > 1 and plot_path:
+        raise UsdkslUsageError(f"--plot takes one shot; got {len(shots)}")
+    for report in (junit_path, json_path):
+        if report and report != "-":
+            check_writable_directory(Path(report).resolve().parent)
     if baseline is not None:
         if not os.path.exists(baseline):
             raise UsdkslUsageError("baseline not found", file=baseline)
@@ -88,12 +92,11 @@ def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str]
     owners: Dict[Path, str] = {}
     for shot in shots:
         try:
-            targets = output_targets(shot, out, json_path, plot_path=plot_path)
+            targets = output_targets(shot, out, "-" if json_path else None, plot_path=plot_path)
         except UsdkslInputError as error:
             entries.append(ShotOutcome(name=shot, exit_code=error.exit_code, error=error.one_line()))
             continue
         targets = OutputTargets(out_dir=targets.out_dir.resolve(),
-                                json_path=targets.json_path and targets.json_path.resolve(),
                                 json_to_stdout=targets.json_to_stdout,
                                 plot_path=targets.plot_path and targets.plot_path.resolve())
         written = targets.contacts_csv(shot)
@@ -168,6 +171,25 @@ def junit_for_outcomes(outcomes: Sequence[ShotOutcome]) -> str:
             suites.append(shot_suite(outcome.name, result.plan, result.table, result.clock,
                                      None if result.baseline is None else result.baseline.known))
     return junit_document(suites)
+
+
+def json_for_outcomes(outcomes: Sequence[ShotOutcome]) -> Optional[str]:
+    """The --json text of a batch. One shot: its document exactly as a check of it alone writes it (None
+    when it could not be checked: nothing is written, as alone). Several: JSON Lines, one compact document
+    per shot in the order of ``outcomes``; a shot that could not be checked has a short document (tool,
+    version, shot, exit_code, error)."""
+    if len(outcomes) == 1:
+        result = outcomes[0].result
+        return None if result is None else result.stdout
+    lines = []
+    for outcome in outcomes:
+        if outcome.result is None:
+            document = {"tool": "usdksl", "version": package_version(), "shot": outcome.name,
+                        "exit_code": int(outcome.exit_code), "error": outcome.error or "failed"}
+        else:
+            document = json.loads(outcome.result.stdout)
+        lines.append(json.dumps(document, separators=(",", ":"), allow_nan=False) + "\n")
+    return "".join(lines)
 
 
 def worst_exit_code(outcomes: Iterable[ShotOutcome]) -> int:
