@@ -32,7 +32,7 @@ from usdksl.reports.override import shot_stem
 from usdksl.scale.shot_arguments import expand_shots
 from usdksl.stopping import Stopped, deferred_stops, stop_on_signals
 
-from .options import parse_time_range
+from .options import allow_missing_assets_option, parse_time_range
 
 
 def _echo(line: str) -> None:
@@ -92,12 +92,10 @@ def _echo(line: str) -> None:
               help="Also write a JUnit XML report, whatever the exit code: one testsuite per shot, one testcase "
                    "per checked pair; an <error> test case for a shot that cannot be checked.")
 @click.option("--strict", is_flag=True,
-              help="Exit 2 (nothing written) instead of warning when the cache has a simulation blow-up, "
-                   "geometry or an interval usdksl cannot check (nested PointInstancers, topology "
-                   "changes) or nothing left to check.")
-@click.option("--allow-missing-assets", is_flag=True,
-              help="Check what the stage composes even when a referenced, payloaded, sublayered or clip asset "
-                   "does not resolve (each is named as not checked). Without it such a stage is exit 2.")
+              help="Exit 2 (nothing written) instead of warning when the cache has a simulation blow-up or a "
+                   "cache glitch, or when anything is not checked (empty or blocked samples, topology changes, "
+                   "nested PointInstancers, solids that are not meshes, allowed missing assets).")
+@allow_missing_assets_option
 @click.option("--skin-keys-only", is_flag=True,
               help="Pose skinned meshes at their animation's keys only. By default a skinned mesh keyed more "
                    "sparsely than the stage's frames is posed at every frame, as UsdSkel.BakeSkinning bakes it.")

@@ -8,7 +8,7 @@ from usdksl.crosscheck.shot import crosscheck_csv_path, crosscheck_shot, write_c
 from usdksl.errors import UsdkslInputError
 from usdksl.reading.loader import load_shot
 
-from .options import parse_time_range
+from .options import allow_missing_assets_option, parse_time_range
 
 
 @click.command()
@@ -22,9 +22,7 @@ from .options import parse_time_range
               help="Folder for <stem>.crosscheck.csv (default: the shot's folder).")
 @click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range,
               metavar="A B", help="Only the samples inside [A, B] (USD time codes), ends included.")
-@click.option("--allow-missing-assets", is_flag=True,
-              help="Read what the stage composes even when a referenced, payloaded, sublayered or clip asset does "
-                   "not resolve (each is named). Without it such a stage is exit 2.")
+@allow_missing_assets_option
 def crosscheck(shot, frames, contacts_file, out_dir, time_range, allow_missing_assets):
     """Intersect static frames of SHOT with Embree and check every intersecting face pair against the
     continuous result: its first contact must come at or before the frame.

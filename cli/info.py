@@ -7,7 +7,7 @@ import click
 from usdksl.errors import UsdkslInputError
 from usdksl.reading.loader import load_shot
 
-from .options import parse_time_range
+from .options import allow_missing_assets_option, parse_time_range
 
 
 def _time_span(times) -> str:
@@ -20,9 +20,7 @@ def _time_span(times) -> str:
 @click.argument("shot", type=click.Path(dir_okay=False, path_type=str))
 @click.option("--time-range", nargs=2, type=float, default=None, callback=parse_time_range,
               metavar="A B", help="Only the samples inside [A, B] (USD time codes), ends included.")
-@click.option("--allow-missing-assets", is_flag=True,
-              help="Read what the stage composes even when a referenced, payloaded, sublayered or clip asset does "
-                   "not resolve (each is named). Without it such a stage is exit 2.")
+@allow_missing_assets_option
 def info(shot, time_range, allow_missing_assets):
     """Print each mesh of SHOT: faces, vertices, triangles, samples, time range, classification."""
     try:

@@ -14,32 +14,28 @@ from usdksl.errors import UsdkslInputError
 from usdksl.reading.segments import Gap, Stretch, absent_meshes, cut_range, is_topology_change, mesh_gaps
 from usdksl.warning_kinds import EMPTY_SAMPLE, TOPOLOGY_CHANGE
 
-KEY = (np.array([4]), np.array([0, 1, 2, 3]), np.array([], int), 4)
-OTHER_KEY = (np.array([3, 3]), np.array([0, 1, 2, 0, 2, 3]), np.array([], int), 4)
-EMPTY_KEY = (np.array([4]), np.array([0, 1, 2, 3]), np.array([], int), 0)
-
 
 def test_gaps_between_stretches_name_their_kind():
-    stretches = [Stretch(1.0, 5.0, True, KEY), Stretch(6.0, 6.0, False, EMPTY_KEY), Stretch(7.0, 9.0, True, KEY),
-                 Stretch(10.0, 12.0, True, OTHER_KEY)]
+    stretches = [Stretch(1.0, 5.0, True), Stretch(6.0, 6.0, False), Stretch(7.0, 9.0, True),
+                 Stretch(10.0, 12.0, True)]
     gaps = mesh_gaps("/M", stretches)
     assert [(g.start, g.end, g.kind) for g in gaps] == [(5.0, 7.0, EMPTY_SAMPLE), (9.0, 10.0, TOPOLOGY_CHANGE)]
     assert gaps[0].bad_times == (6.0,)
 
 
 def test_a_mesh_that_starts_or_ends_empty_is_left_out_before_or_after_its_points():
-    stretches = [Stretch(0.0, 0.0, False, EMPTY_KEY), Stretch(1.0, 5.0, True, KEY), Stretch(6.0, 8.0, False, EMPTY_KEY)]
+    stretches = [Stretch(0.0, 0.0, False), Stretch(1.0, 5.0, True), Stretch(6.0, 8.0, False)]
     gaps = mesh_gaps("/M", stretches)
     assert [(g.start, g.end) for g in gaps] == [(-np.inf, 1.0), (5.0, np.inf)]
-    assert mesh_gaps("/M", [Stretch(0.0, 3.0, False, EMPTY_KEY)]) == []   # empty everywhere: an empty mesh
+    assert mesh_gaps("/M", [Stretch(0.0, 3.0, False)]) == []   # empty everywhere: an empty mesh
 
 
 def test_the_range_is_cut_at_gap_ends_and_only_covered_meshes_are_absent():
     gaps = [Gap(5.0, 7.0, "/A", EMPTY_SAMPLE), Gap(-np.inf, 2.0, "/B", EMPTY_SAMPLE)]
     pieces = cut_range((1.0, 10.0), gaps)
     assert pieces == [(1.0, 2.0), (2.0, 5.0), (5.0, 7.0), (7.0, 10.0)]
-    stretches = {"/A": [Stretch(1.0, 5.0, True, KEY), Stretch(6.0, 6.0, False, EMPTY_KEY), Stretch(7.0, 10.0, True, KEY)],
-                 "/B": [Stretch(1.0, 1.0, False, EMPTY_KEY), Stretch(2.0, 10.0, True, KEY)]}
+    stretches = {"/A": [Stretch(1.0, 5.0, True), Stretch(6.0, 6.0, False), Stretch(7.0, 10.0, True)],
+                 "/B": [Stretch(1.0, 1.0, False), Stretch(2.0, 10.0, True)]}
     assert [absent_meshes(piece, gaps, stretches) for piece in pieces] == [{"/B": 2.0}, {}, {"/A": 7.0}, {}]
     assert cut_range((8.0, 9.0), gaps) == [(8.0, 9.0)]
 

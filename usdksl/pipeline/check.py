@@ -23,8 +23,8 @@ from ..errors import UsdkslInputError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
 from ..reading.interpolation import reject_spline_motion
 from ..reading.loader import find_mesh_sources
-from ..reading.scope import (PAIR_RIGID_ONLY, PAIR_SELF_RIGID, PAIR_SELF_STATIC, PAIR_STATIC_STATIC, Plan, ScopeOptions,
-                             include_predicate, keep_pairs_across_segments, merge_plans, plan_shot)
+from ..reading.scope import (MOTION_SKIP_REASONS, Plan, ScopeOptions, include_predicate, keep_pairs_across_segments,
+                             merge_plans, plan_shot)
 from ..reports.formats import mesh_pair_lines
 from ..warning_kinds import BASELINE_MISMATCH, EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .coverage import shot_coverage
@@ -148,15 +148,14 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
             say(PLAN, line.strip() if line.startswith("pairs") else line)
     plan = merge_plans(plans)
     if not plan.checked_pairs and require_pairs:
-        still = {PAIR_STATIC_STATIC, PAIR_SELF_STATIC, PAIR_SELF_RIGID, PAIR_RIGID_ONLY}
         if (options.time_range is None or options.strict or plan.skipped_meshes or plan.excluded_paths
-                or not all(reason in still for _, _, reason in plan.skipped_pairs)):
+                or not all(reason in MOTION_SKIP_REASONS for _, _, reason in plan.skipped_pairs)):
             raise UsdkslInputError("no mesh pair left to check: nothing would be checked (-v shows the plan)",
                                    file=name)
         # a farm chunk in which the cloth rests: its motion on either side is in the neighbouring chunks
         say(WARNING, f"nothing moves over {options.time_range[0]:g}..{options.time_range[1]:g}: no pair needs a check",
             NOTHING_CHECKED)
-    coverage = shot_coverage(segments, plans, plan, gaps, checked_span(options, segments), options.time_range)
+    coverage = shot_coverage(segments, plan, gaps, checked_span(options, segments), options.time_range)
     for note in dict.fromkeys(n for _, segment in segments for n in segment.notes):
         say(INFO, note, SPARSE_SKIN_KEYS)
     for line in coverage.lines():

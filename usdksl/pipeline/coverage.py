@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Sequence, Tuple
 
 from ..reading.scope import MESH_ABSENT, MESH_EXCLUDED_BY_PATTERN, Plan
-from ..warning_kinds import EMPTY_MESH, EMPTY_SAMPLE, NOT_A_SURFACE, OUTSIDE_TIME_RANGE, SCOPED_OUT
+from ..warning_kinds import EMPTY_MESH, EMPTY_SAMPLE, NOT_A_SURFACE, OUTSIDE_TIME_RANGE, SCOPED_OUT, TOPOLOGY_CHANGE
 
 CHECKED = "checked"
 SCOPED = "scoped out"
@@ -92,10 +92,10 @@ class Coverage:
                 "entries": [entry.to_dict() for entry in self.entries]}
 
 
-def shot_coverage(segments: Sequence, plans: Sequence[Plan], plan: Plan, gaps: Sequence, span: Tuple[float, float],
+def shot_coverage(segments: Sequence, plan: Plan, gaps: Sequence, span: Tuple[float, float],
                   time_range: Optional[Tuple[float, float]] = None) -> Coverage:
-    """The coverage account of a planned shot: ``segments`` [(range, Shot)] and their ``plans`` as the pipeline
-    loads them, ``plan`` the merged plan, ``gaps`` (usdksl.reading.segments.Gap) of meshes that cannot be followed
+    """The coverage account of a planned shot: ``segments`` [(range, Shot)] as the pipeline loads them, ``plan``
+    their merged plan, ``gaps`` (usdksl.reading.segments.Gap) of meshes that cannot be followed
     across some samples, ``span`` the checked range, ``time_range`` the user's --time-range (None: the shot)."""
     coverage = Coverage(span=(float(span[0]), float(span[1])))
     entries = coverage.entries
@@ -112,7 +112,7 @@ def shot_coverage(segments: Sequence, plans: Sequence[Plan], plan: Plan, gaps: S
         start, end = max(gap.start, coverage.span[0]), min(gap.end, coverage.span[1])
         if start < end or (start == end and gap.start < start < gap.end):
             entries.append(CoverageEntry(gap.path, NOT_CHECKED,
-                                         "topology changes" if gap.kind.endswith("TopologyChange") else
+                                         "topology changes" if gap.kind == TOPOLOGY_CHANGE else
                                          "points are empty or blocked", gap.kind, float(start), float(end)))
     partners: dict = {}
     for i, j in plan.pairs.tolist():

@@ -95,9 +95,8 @@ def load_segments(found: MeshSources, time_range: Optional[TimeRange], say: Call
             raise
         first_error = error
     stretches = {str(prim.GetPath()): mesh_stretches(prim) for prim in found.prims}
-    full = full_range((np.array([s.first for s in found] + [s.last for s in found]) for found in stretches.values()),
-                      time_range)
-    gaps = [gap for path, found in stretches.items() for gap in mesh_gaps(path, found)
+    full = full_range(found.sample_times, time_range)
+    gaps = [gap for path, mesh in stretches.items() for gap in mesh_gaps(path, mesh)
             if gap.covers(full) or (full[0] == full[1] and gap.start < full[0] < gap.end)]
     if not gaps and isinstance(first_error, UsdkslGapError):   # a PointInstancer's prototype mesh
         raise UsdkslInputError(f"{first_error.message}: the instances of a prototype with empty or blocked samples "

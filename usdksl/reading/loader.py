@@ -38,11 +38,12 @@ from dataclasses import dataclass
 from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
-from pxr import Gf, Tf, Usd, UsdGeom
+from pxr import Tf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslGapError, UsdkslInputError, UsdkslUsageError
 from ..warning_kinds import EMPTY_MESH, NOT_A_SURFACE, UNMESHED_SOLID, UNRESOLVED_ASSET
 from ..unmasked import distinct_sorted
+from .segments import mesh_stretches
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
 from .meshes import (DEFORMING, RIGID, STATIC, NOT_SURFACES, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
                      unmeshed_solid_kind, not_surface_kind, _window, load_mesh,  # noqa: F401
@@ -497,20 +498,13 @@ def _sample_span(sample_times: Sequence[np.ndarray]) -> Optional[Tuple[float, fl
 
 
 def _shows_surface_within(prim: Optional[Usd.Prim], times: np.ndarray) -> bool:
-    """Whether a UsdGeom.Mesh ``prim`` has a ``points`` sample with points and faces within ``times``' span: then
+    """Whether a UsdGeom.Mesh ``prim`` has a stretch of samples with points and faces within ``times``' span: then
     an empty sample is a gap in the mesh, not an empty mesh."""
     if prim is None or not prim.IsA(UsdGeom.Mesh) or times.size == 0:
         return False
-    mesh = UsdGeom.Mesh(prim)
-    points = mesh.GetPointsAttr()
     first, last = float(times[0]), float(times[-1])
-    inside = [t for t in points.GetTimeSamplesInInterval(Gf.Interval(first, last))] or [first]
-    for time in inside:
-        value = points.Get(time)
-        counts = mesh.GetFaceVertexCountsAttr().Get(time)
-        if value is not None and len(value) and counts is not None and len(counts):
-            return True
-    return False
+    return any(stretch.valid and stretch.first <= last and stretch.last >= first
+               for stretch in mesh_stretches(prim))
 
 
 class _AuthoredMesh:

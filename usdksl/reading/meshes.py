@@ -228,6 +228,28 @@ def _same_topology(a, b) -> bool:
     return a[3] == b[3] and all(np.array_equal(x, y) for x, y in zip(a[:3], b[:3]))
 
 
+def topology_stretches(prim: Usd.Prim) -> List[Tuple[float, float, tuple]]:
+    """(first, last, topology key) of each run of consecutive ``points`` and topology samples of a mesh with one
+    topology, in time order (time codes); [] for a mesh without samples. The key is (faceVertexCounts,
+    faceVertexIndices, holeIndices, points count). Reads every sample."""
+    mesh = UsdGeom.Mesh(prim)
+    times = sorted(set(_topology_sample_times(mesh))
+                   | set(mesh.GetPointsAttr().GetTimeSamples()))
+    if not times:
+        return []
+    stretches = []
+    start = previous = float(times[0])
+    key = _topology_key(mesh, start)
+    for time in times[1:]:
+        current = _topology_key(mesh, time)
+        if not _same_topology(key, current):
+            stretches.append((start, previous, key))
+            start, key = float(time), current
+        previous = float(time)
+    stretches.append((start, previous, key))
+    return stretches
+
+
 def topology_segments(prim: Usd.Prim) -> List[Tuple[float, float]]:
     """Constant-topology stretches of a mesh as (first, last) sample times, in time codes.
 
@@ -237,22 +259,7 @@ def topology_segments(prim: Usd.Prim) -> List[Tuple[float, float]]:
     segment can be loaded on its own with ``load_shot(..., time_range=segment)``. A mesh
     without any samples is one segment at the default time, reported as (0.0, 0.0).
     """
-    mesh = UsdGeom.Mesh(prim)
-    times = sorted(set(_topology_sample_times(mesh))
-                   | set(mesh.GetPointsAttr().GetTimeSamples()))
-    if not times:
-        return [(0.0, 0.0)]
-    segments = []
-    start = previous = times[0]
-    key = _topology_key(mesh, start)
-    for time in times[1:]:
-        current = _topology_key(mesh, time)
-        if not _same_topology(key, current):
-            segments.append((float(start), float(previous)))
-            start, key = time, current
-        previous = time
-    segments.append((float(start), float(previous)))
-    return segments
+    return [(first, last) for first, last, _ in topology_stretches(prim)] or [(0.0, 0.0)]
 
 
 # --------------------------------------------------------------------------- one mesh

@@ -42,15 +42,6 @@ class Stretch:
     first: float
     last: float
     valid: bool
-    key: tuple = ()
-
-    def same_faces(self, other: "Stretch") -> bool:
-        """Whether face indices mean the same faces in both stretches."""
-        return _same_key(self.key, other.key)
-
-
-def _same_key(a, b) -> bool:
-    return len(a) == len(b) and a[3] == b[3] and all(np.array_equal(x, y) for x, y in zip(a[:3], b[:3]))
 
 
 @dataclass(frozen=True)
@@ -83,25 +74,9 @@ class Gap:
 def mesh_stretches(prim) -> List[Stretch]:
     """The stretches of a UsdGeom.Mesh prim over all its ``points`` and topology samples, in time order
     (reads every points sample: only for meshes whose samples the loader could not follow)."""
-    from .meshes import _topology_key, _topology_sample_times
+    from .meshes import topology_stretches
 
-    from pxr import UsdGeom
-
-    mesh = UsdGeom.Mesh(prim)
-    times = sorted(set(_topology_sample_times(mesh)) | set(mesh.GetPointsAttr().GetTimeSamples()))
-    if not times:
-        return []
-    stretches: List[Stretch] = []
-    start = previous = float(times[0])
-    key = _topology_key(mesh, start)
-    for time in times[1:]:
-        current = _topology_key(mesh, time)
-        if not _same_key(key, current):
-            stretches.append(Stretch(start, previous, _shows_surface(key), key))
-            start, key = float(time), current
-        previous = float(time)
-    stretches.append(Stretch(start, previous, _shows_surface(key), key))
-    return stretches
+    return [Stretch(first, last, _shows_surface(key)) for first, last, key in topology_stretches(prim)]
 
 
 def _shows_surface(key) -> bool:
