@@ -1,6 +1,7 @@
 """Record cloth caches with NVIDIA Newton on CPU, written as USD the way a simulator cache looks.
 
     python benchmarks/record_newton.py tablecloth             # ~12k triangles x 150 frames
+    python benchmarks/record_newton.py tablecloth_press       # the same, the ball pressing through the cloth briefly
     python benchmarks/record_newton.py twist                  # ~4.8k triangles x 200 frames
     python benchmarks/record_newton.py cards                  # 52 poker cards (~3.6k triangles) x 120 frames
     python benchmarks/record_newton.py shirt                  # ~20k triangles x 150 frames
@@ -146,7 +147,20 @@ def _quat_multiply(a, b):
 
 # --------------------------------------------------------------------------- scenes
 
-def scene_tablecloth(scale: float) -> Scene:
+#: tablecloth_press: how far below its resting height (metres) the ball presses into the cloth on the table,
+#: and how long it stays down (seconds) before it rises again at RISE_SPEED (m/s).
+PRESS_DEPTH = 0.02
+PRESS_HOLD_S = 0.15
+RISE_SPEED = 1.0
+
+
+def scene_tablecloth_press(scale: float) -> Scene:
+    """The tablecloth, but the ball presses the cloth against the table top, harder than the cloth's
+    collision gap allows, and rises again: a brief pass-through beside the cloth's long rest on the table."""
+    return scene_tablecloth(scale, press=True)
+
+
+def scene_tablecloth(scale: float, press: bool = False) -> Scene:
     """A tablecloth falls onto a table, drapes and rests; a ball is dropped onto it late in the shot."""
     import newton
     import warp as wp
@@ -186,10 +200,15 @@ def scene_tablecloth(scale: float) -> Scene:
     builder.color(include_bending=True)
 
     release_s, rest_z = 1.5, top + 0.012 + ball_radius
+    if press:
+        rest_z -= PRESS_DEPTH
+    landed_s = release_s + math.sqrt(2.0 * (ball_hold[2] - rest_z) / 9.81)
 
     def drive(model, state_in, state_out, t):
         fall = max(t - release_s, 0.0)
         z = max(ball_hold[2] - 0.5 * 9.81 * fall * fall, rest_z)
+        if press and t > landed_s + PRESS_HOLD_S:
+            z = min(rest_z + RISE_SPEED * (t - landed_s - PRESS_HOLD_S), ball_hold[2])
         for state in (state_in, state_out):
             _write_body(state, ball, (ball_hold[0], ball_hold[1], z), (0.0, 0.0, 0.0, 1.0))
 
@@ -200,7 +219,9 @@ def scene_tablecloth(scale: float) -> Scene:
                  contact_model=dict(soft_contact_ke=1.0e4, soft_contact_kd=1.0e-2, soft_contact_mu=0.4),
                  drive=drive,
                  note=f"tablecloth: {len(cloth.triangles)} triangles fall onto a table and rest; "
-                      f"a ball (kinematic) drops onto it at {release_s} s")
+                      f"a ball (kinematic) drops onto it at {release_s} s"
+                      + (f", presses {PRESS_DEPTH} m below its resting height for {PRESS_HOLD_S} s and rises"
+                         if press else ""))
 
 
 def scene_twist(scale: float) -> Scene:
@@ -411,7 +432,8 @@ def _offset(mesh, offset):
     return points + np.asarray(offset, np.float64), counts, indices
 
 
-SCENES = {"tablecloth": scene_tablecloth, "twist": scene_twist, "cards": scene_cards, "shirt": scene_shirt}
+SCENES = {"tablecloth": scene_tablecloth, "tablecloth_press": scene_tablecloth_press, "twist": scene_twist,
+          "cards": scene_cards, "shirt": scene_shirt}
 
 
 # --------------------------------------------------------------------------- simulate

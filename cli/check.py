@@ -19,7 +19,7 @@ import click
 
 from usdksl.ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from usdksl.checking.collision import METHODS
-from usdksl.contacts.baseline import baseline_for_shot
+from usdksl.regions.baseline import baseline_for_shot
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.exit_codes import INPUT_ERROR
 from usdksl.pipeline.check import check_shot
@@ -27,6 +27,7 @@ from usdksl.pipeline.files import output_targets
 from usdksl.pipeline.messages import NORMAL, QUIET, VERBOSE, WARNING, Message
 from usdksl.pipeline.options import CheckOptions
 from usdksl.pipeline.progress import Progress, progress_enabled
+from usdksl.pipeline.report import report_for_results, report_line
 from usdksl.reports.output import write_files
 from usdksl.reports.override import shot_stem
 from usdksl.scale.shot_arguments import expand_shots
@@ -85,6 +86,10 @@ def _echo(line: str) -> None:
               help="Also draw a contact timeline: one row per mesh pair, frames across, shaded while in contact, "
                    "a tick at each first contact. Turns on --last-contact. Needs matplotlib "
                    "(pip install 'usdksl[plot]'). One shot only.")
+@click.option("--report", "report_path", metavar="FILE.html", default=None,
+              help="Also write one illustrated page for the run: every shot's summary, a timeline of its contact "
+                   "regions, the regions by depth and a picture of each of the worst. Needs PyVista and VTK "
+                   "(pip install 'usdksl[report]').")
 @click.option("--json", "json_path", metavar="FILE", default=None,
               help="Also write a JSON report (shot, settings, plan, summary, contacts); '-' for stdout. With "
                    "several shots: JSON Lines, one compact document per shot in the order given.")
@@ -120,7 +125,7 @@ def _echo(line: str) -> None:
                    "shot estimated to need more is refused (exit 2) before it is loaded.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
-          baseline_time_tolerance, plot_path, json_path, junit_path, strict, allow_missing_assets, skin_keys_only,
+          baseline_time_tolerance, plot_path, report_path, json_path, junit_path, strict, allow_missing_assets, skin_keys_only,
           verbosity, jobs, scheduler, timeout, threads, memory_limit):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
@@ -151,9 +156,9 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
         with stop_on_signals(timeout):
             if single:
                 _check_one(shots[0], options, out, json_path, junit_path, baseline, baseline_time_tolerance,
-                           verbosity, plot_path)
+                           verbosity, plot_path, report_path)
             _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline,
-                        baseline_time_tolerance, verbosity, plot_path, finished)
+                        baseline_time_tolerance, verbosity, plot_path, finished, report_path)
     except Stopped as stop:
         done = ("nothing written" if single or not finished
                 else f"{len(finished)} of {len(shots)} shots finished (their files are written), the others not")
@@ -193,14 +198,15 @@ def _crash_message(error):
     return f"{type(error).__name__}: {' '.join(str(error).split())} (set USDKSL_DEBUG=1 for a traceback)"
 
 
-def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity, plot_path):
+def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_time_tolerance, verbosity, plot_path,
+               report_path):
     """One shot in this process: the plan and warnings as they come, a progress bar over the shot's time."""
     def show(message):
         if message.shown(verbosity):
             _echo(message.line())
 
     try:
-        targets = output_targets(shot, out, json_path, junit_path, plot_path)
+        targets = output_targets(shot, out, json_path, junit_path, plot_path, report_path)
         if baseline is not None and not os.path.exists(baseline):
             raise UsdkslUsageError("baseline not found", file=baseline)
         accepted, warning = baseline_for_shot(baseline, shot_stem(shot), baseline_time_tolerance)
@@ -208,6 +214,9 @@ def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_tim
             show(Message(WARNING, warning))
         result = check_shot(shot, options, targets, on_message=show,
                             progress=Progress if verbosity > QUIET else None, baseline=accepted)
+        files = dict(result.files)
+        if targets.report_path is not None:
+            files[targets.report_path] = report_for_results([result])
     except UsdkslInputError as error:
         _fail([shot], error.one_line(), junit_path, error.exit_code)
     except Exception as error:  # never let a crash look like "contacts found" (exit 1)
@@ -216,30 +225,33 @@ def _check_one(shot, options, out, json_path, junit_path, baseline, baseline_tim
         _fail([shot], _crash_message(error), junit_path, kind="internal error")
     with deferred_stops(drop=True):   # the answer is known: publish it, say so and end, uncut
         try:
-            written = write_files(result.files)
+            written = write_files(files)
         except UsdkslInputError as error:
             _fail([shot], error.one_line(), junit_path, error.exit_code)
         if result.stdout is not None:
             sys.stdout.write(result.stdout)
         if verbosity >= NORMAL:
             _echo(result.summary)
+            if targets.report_path is not None:
+                _echo(report_line(targets.report_path))
         if verbosity >= VERBOSE:
             _echo(f"usdksl: wrote {', '.join(str(path) for path in written)}")
         sys.exit(result.exit_code)
 
 
 def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, baseline, baseline_time_tolerance,
-                verbosity, plot_path, finished):
+                verbosity, plot_path, finished, report_path=None):
     """Several shots (or Dask): one line per shot as it finishes, with its warnings, then the total.
     ``finished`` collects the outcomes shown (their files are written)."""
-    from usdksl.scale.batch import (json_for_outcomes, junit_for_outcomes, make_jobs, run_batch, run_here,
-                                    total_line, worst_exit_code)
+    from usdksl.scale.batch import (json_for_outcomes, junit_for_outcomes, make_jobs, report_for_outcomes,
+                                    run_batch, run_here, total_line, worst_exit_code)
     from usdksl.scale.batch_progress import BatchProgress
 
     if jobs is not None and scheduler is not None:
         raise click.UsageError("give --jobs or --scheduler, not both")
     try:
-        entries = make_jobs(shots, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path)
+        entries = make_jobs(shots, out, json_path, junit_path, baseline, baseline_time_tolerance, plot_path,
+                            report_path)
         if jobs is None and scheduler is None:
             runner = run_here
         else:
@@ -265,6 +277,8 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
             reports[junit_path] = junit_for_outcomes(outcomes)
         if json_text is not None and json_path != "-":
             reports[json_path] = json_text
+        if report_path:
+            reports[report_path] = report_for_outcomes(outcomes)
         if reports:
             write_files(reports)
     except UsdkslInputError as error:
@@ -274,4 +288,6 @@ def _check_many(shots, options, out, json_path, junit_path, jobs, scheduler, bas
             sys.stdout.write(json_text)
         if verbosity >= NORMAL:
             _echo(total_line(outcomes))
+            if report_path:
+                _echo(report_line(report_path))
         sys.exit(worst_exit_code(outcomes))

@@ -4,7 +4,7 @@ import sys
 
 import click
 
-from usdksl.contacts.baseline import read_baseline
+from usdksl.regions.baseline import read_any_baseline
 from usdksl.errors import UsdkslInputError
 from usdksl.pipeline.files import output_targets
 from usdksl.reports.output import write_files
@@ -42,7 +42,7 @@ def merge(shot, parts, out, json_path, junit_path, baseline, baseline_time_toler
     """
     try:
         targets = output_targets(shot, out, json_path, junit_path, plot_path)
-        accepted = None if baseline is None else read_baseline(baseline, baseline_time_tolerance)
+        accepted = None if baseline is None else read_any_baseline(baseline, baseline_time_tolerance)
         result = merge_chunks(shot, parts, targets, accepted, time_range)
         write_files(result.files)
     except UsdkslInputError as error:

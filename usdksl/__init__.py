@@ -6,7 +6,8 @@ user needs are re-exported here. The sub-packages, by topic:
 ``usdksl.contacts``    the contact table in canonical order, contacts.csv read and written, baselines
 ``usdksl.reading``     USD in: the stage as world-space arrays, and which mesh pairs are checked
 ``usdksl.checking``    first contacts: the native core's face (and the shot played backwards, for last contacts)
-``usdksl.reports``     summary.csv, JSON, JUnit and the override layer; every report file written atomically
+``usdksl.regions``     contacts grouped into regions (the problems a person fixes), each with its depth
+``usdksl.reports``     summary.csv, JSON, JUnit, the override layer and the illustrated page; every file written atomically
 ``usdksl.crosscheck``  static frames intersected with Embree, held against the continuous result
 ``usdksl.pipeline``    the whole check of one shot: load, plan, find first contacts, render every report
 ``usdksl.scale``       many shots, on one process or a Dask cluster, and farm chunks merged
@@ -37,6 +38,8 @@ _EXPORTS = {
     "CheckOptions": "usdksl.pipeline.options",
     "CheckResult": "usdksl.pipeline.result",
     "check_shot": "usdksl.pipeline.check",
+    "report_for_results": "usdksl.pipeline.report",
+    "RegionTable": "usdksl.regions.table",
     "ContactTable": "usdksl.contacts.table",
     "UsdkslInputError": "usdksl.errors",
     "UsdkslUsageError": "usdksl.errors",
@@ -76,6 +79,8 @@ if TYPE_CHECKING:   # what the names are, for type checkers and readers
     from .errors import UsdkslInputError, UsdkslUsageError  # noqa: F401
     from .pipeline.check import check_shot  # noqa: F401
     from .pipeline.options import CheckOptions  # noqa: F401
+    from .pipeline.report import report_for_results  # noqa: F401
+    from .regions.table import RegionTable  # noqa: F401
     from .pipeline.result import CheckResult  # noqa: F401
     from .reading.loader import MeshData, Shot, load_shot  # noqa: F401
     from .reports.output import write_files  # noqa: F401

@@ -10,6 +10,7 @@ namespace py = pybind11;
 void define_ccd(py::module_& m);
 void define_check_options(py::module_& m);
 void define_collision(py::module_& m);
+void define_regions(py::module_& m);
 
 PYBIND11_MODULE(_native, m) {
     m.doc() = "usdksl native core (private; use the usdksl package)";
@@ -20,4 +21,5 @@ PYBIND11_MODULE(_native, m) {
     define_ccd(m);
     define_check_options(m);   // before find_contacts, whose signature names it
     define_collision(m);
+    define_regions(m);
 }

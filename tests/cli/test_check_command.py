@@ -54,12 +54,12 @@ def test_samples_exit_codes_outputs_and_determinism(sample, tmp_path):
     assert first.exit_code == SAMPLE_EXIT_CODES[name], first.stderr
     assert second.exit_code == first.exit_code
     assert first.stdout == ""                                # stdout stays parseable: nothing on it
-    for suffix in ("contacts.csv", "summary.csv", "usdksl.usda"):
+    for suffix in ("contacts.csv", "summary.csv", "regions.csv", "usdksl.usda"):
         one = (tmp_path / "one" / f"{name}.{suffix}").read_bytes()
         two = (tmp_path / "two" / f"{name}.{suffix}").read_bytes()
         assert one == two, suffix
     rows = (tmp_path / "one" / f"{name}.contacts.csv").read_text().splitlines()
-    assert rows[0] == "time,prim_a,face_a,prim_b,face_b,kind,feature,frame,seconds"
+    assert rows[0] == "time,prim_a,face_a,prim_b,face_b,kind,feature,frame,seconds,region"
     assert (len(rows) > 1) == (first.exit_code == 1)
     assert sha256(path) == before
     assert first.stderr.splitlines()[-1].startswith("usdksl: ")
@@ -372,7 +372,7 @@ def test_entry_point_on_a_shot_with_contacts(two_quads_shot, tmp_path):
     last = completed.stderr.splitlines()[-1]
     assert last.startswith("usdksl: ") and "first at frame 12.5 (t=12.5)" in last
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == [
-        "two_quads.contacts.csv", "two_quads.summary.csv", "two_quads.usdksl.usda"]
+        "two_quads.contacts.csv", "two_quads.regions.csv", "two_quads.summary.csv", "two_quads.usdksl.usda"]
 
 
 # ------------------------------------------------------------------------ topology that changes over time

@@ -47,7 +47,8 @@ def test_default_console_is_one_line_per_shot(samples_dir, tmp_path):
     assert result.stdout == ""
     lines = result.stderr.splitlines()
     assert len(lines) == 1
-    assert lines[0].startswith("usdksl: 132 contacting face pairs in 1 mesh pair, first at frame 31.916 (t=31.916); "
+    assert lines[0].startswith("usdksl: 1 problem in 1 mesh pair (132 contacting face pairs), first at frame 31.916 "
+                               "(t=31.916), worst region 1: intersection 0.8 long at frame 35; "
                                "checked 1 pair over 1..36 in ")
 
 
@@ -56,8 +57,10 @@ def test_verbose_adds_the_plan_the_mesh_pairs_and_the_files(samples_dir, tmp_pat
     lines = result.stderr.splitlines()
     assert "usdksl: pairs checked: 1 of 1 possible (1 meshes, 1 moving)" in lines
     assert "usdksl: /World/Strip (self): 132 face pairs, first at frame 31.916 (t=31.916)" in lines
+    assert ("usdksl: region 1: /World/Strip (self): intersection 0.8 long at frame 35, frames 31.916..36, "
+            "132 face pairs, around (-0.4638, -1.735e-18, 0)") in lines
     assert lines[-1] == f"usdksl: wrote {tmp_path / 'fold.contacts.csv'}, {tmp_path / 'fold.summary.csv'}, " \
-                        f"{tmp_path / 'fold.usdksl.usda'}"
+                        f"{tmp_path / 'fold.regions.csv'}, {tmp_path / 'fold.usdksl.usda'}"
 
 
 def test_quiet_prints_errors_only(samples_dir, tmp_path):

@@ -185,7 +185,8 @@ def test_a_stop_between_shots_keeps_the_finished_ones_complete(slow_shot, sample
     assert run.lines[-1] == "usdksl: interrupted (SIGINT); 1 of 2 shots finished (their files are written), " \
                             "the others not"
     assert elapsed < STOP_SECONDS
-    assert sorted(p.name for p in out.iterdir()) == ["fold.contacts.csv", "fold.summary.csv", "fold.usdksl.usda"]
+    assert sorted(p.name for p in out.iterdir()) == ["fold.contacts.csv", "fold.regions.csv", "fold.summary.csv",
+                                                     "fold.usdksl.usda"]
     assert (out / "fold.contacts.csv").read_text().startswith("time,prim_a,face_a,prim_b,face_b,kind")
     assert not any(line.startswith(f"usdksl: {slow_shot}") for line in run.lines)
 

@@ -49,7 +49,7 @@ def test_own_baseline_is_clean(fold, own, tmp_path):
 def test_baseline_less_one_row_names_the_new_pair_and_a_stale_row_is_fixed(fold, own, tmp_path):
     lines = own.read_text().splitlines(keepends=True)
     dropped = next(csv.DictReader(lines[:1] + lines[2:3]))
-    stale = "31.0,/World/Strip,0,/World/Strip,5,self,edge-edge,31.0,1.2916666666666667\n"   # faces 0 and 5 never touch
+    stale = "31.0,/World/Strip,0,/World/Strip,5,self,edge-edge,31.0,1.2916666666666667,1\n"   # faces 0 and 5 never touch
     baseline = tmp_path / "baseline.csv"
     baseline.write_text("".join(lines[:2] + lines[3:]) + stale)
     result = _run("check", fold, "--out", tmp_path / "now", "--baseline", baseline,

@@ -12,7 +12,7 @@ from usdksl.cli.main import main
 
 #: fold.usda is sampled at every frame 1..36; its strip first touches itself at about t = 31.9.
 FOLD_FIRST_CONTACT = 31.9
-FILES = ("fold.contacts.csv", "fold.summary.csv", "fold.usdksl.usda", "fold.usdksl-run.json", "fold.json",
+FILES = ("fold.contacts.csv", "fold.summary.csv", "fold.regions.csv", "fold.usdksl.usda", "fold.usdksl-run.json", "fold.json",
          "fold.junit.xml")
 
 
@@ -55,7 +55,8 @@ def test_merged_chunks_equal_one_run_over_their_union(fold, tmp_path, whole, cut
     result = _run("merge", fold, *folders, "--out", out, *_reports(out))
     assert result.exit_code == 1, result.output
     assert {name: (out / name).read_bytes() for name in FILES} == whole
-    assert result.stderr.startswith(f"usdksl: merged {len(cuts)} chunks: 132 contacting face pairs")
+    assert result.stderr.startswith(f"usdksl: merged {len(cuts)} chunks: 1 problem in 1 mesh pair "
+                                    f"(132 contacting face pairs)")
 
 
 def test_merged_last_contacts_equal_one_run_over_their_union(fold, tmp_path):

@@ -154,8 +154,15 @@ class ContactTable:
         meshes]: pieces where a mesh has the same epoch have the same faces; a face pair found again in a later
         piece with the same epochs for both meshes is kept once, at its first contact (and its latest last
         contact). Without ``epochs`` every row is kept (face indices may refer to different topologies)."""
+        return cls.concatenate_rows(tables, epochs)[0]
+
+    @classmethod
+    def concatenate_rows(cls, tables: Sequence["ContactTable"],
+                         epochs: Optional[np.ndarray] = None) -> Tuple["ContactTable", np.ndarray]:
+        """(:meth:`concatenate` of ``tables``, int64[C]: the position of each of its rows among the rows of
+        all ``tables`` stacked in order)."""
         if len(tables) == 1:
-            return tables[0]
+            return tables[0], np.arange(tables[0].count, dtype=np.int64)
         if any(table.paths != tables[0].paths for table in tables):
             raise ValueError("pieces of one shot loaded different meshes")
         if len({table.last_time is None for table in tables}) > 1:
@@ -164,6 +171,7 @@ class ContactTable:
                      else np.concatenate([table.last_time for table in tables]))
         columns = {name: np.concatenate([getattr(table, name) for table in tables])
                    for name in ("time", "mesh_a", "face_a", "mesh_b", "face_b", "feature")}
+        kept = np.arange(columns["time"].size, dtype=np.int64)
         if epochs is not None and columns["time"].size:
             piece = np.repeat(np.arange(len(tables)), [table.count for table in tables])
             epochs = np.asarray(epochs, dtype=np.int64)
@@ -179,7 +187,8 @@ class ContactTable:
             keep[first] = True    # rows come in time order, so the first of a group is its first contact
             columns = {name: column[keep] for name, column in columns.items()}
             last_time = None if last_time is None else last_time[keep]
-        return cls(paths=tables[0].paths and list(tables[0].paths), last_time=last_time, **columns)
+            kept = kept[keep]
+        return cls(paths=tables[0].paths and list(tables[0].paths), last_time=last_time, **columns), kept
 
     @classmethod
     def empty(cls, paths: Optional[Sequence[str]]) -> "ContactTable":

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..checking.collision import default_threads, find_contacts
 from ..clock import StageClock
-from ..contacts.baseline import Baseline, BaselineComparison, compare, mismatch_warning
+from ..contacts.baseline import BaselineComparison, mismatch_warning
 from ..contacts.table import ContactTable
 from ..errors import UsdkslInputError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES
@@ -25,7 +25,9 @@ from ..reading.interpolation import reject_spline_motion
 from ..reading.loader import find_mesh_sources
 from ..reading.scope import (MOTION_SKIP_REASONS, Plan, ScopeOptions, include_predicate, keep_pairs_across_segments,
                              merge_plans, plan_shot)
-from ..reports.formats import mesh_pair_lines
+from ..regions.baseline import AnyBaseline, compare_any
+from ..regions.find import concatenate_regions, find_regions
+from ..reports.formats import mesh_pair_lines, region_lines
 from ..warning_kinds import BASELINE_MISMATCH, EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .coverage import shot_coverage
 from .files import OutputTargets, concatenate_pieces, render_files
@@ -42,6 +44,8 @@ from .result import UNDECIDED_COUNTER, CheckResult
 #: Baseline lines shown by default (new face pairs, fixed entries, each); -v shows up to BASELINE_LINES_VERBOSE.
 BASELINE_LINES_SHOWN = 5
 BASELINE_LINES_VERBOSE = 200
+#: Regions -v lists, deepest first (the reports list all).
+REGION_LINES_VERBOSE = 20
 
 #: How the progress bar of the backwards run (last contacts) is labelled; it shows reversed time codes.
 REVERSE_PROGRESS_LABEL = "last contacts, reversed time"
@@ -53,7 +57,7 @@ ProgressFactory = Callable[..., Callable[[float, int], None]]
 def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optional[OutputTargets] = None,
                on_message: Optional[Callable[[Message], None]] = None,
                progress: Optional[ProgressFactory] = None, name: Optional[str] = None,
-               baseline: Optional[Baseline] = None) -> CheckResult:
+               baseline: Optional[AnyBaseline] = None) -> CheckResult:
     """Check ``shot`` (a USD file) and render its reports; write nothing.
 
     ``baseline`` (usdksl.contacts.baseline): contacts it knows do not count for the exit code; the
@@ -165,21 +169,27 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
 
 def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets, planned: PlannedShot,
              tables: Sequence[ContactTable], span: TimeRange, counters: Dict[str, int], messages: List[Message],
-             say: Callable[[str, str], None], baseline: Optional[Baseline], started: float) -> CheckResult:
+             say: Callable[[str, str], None], baseline: Optional[AnyBaseline], started: float) -> CheckResult:
     """The result of a check from the contacts of each segment (``tables``): held against ``baseline``,
     cross-checked when asked, every report rendered. Says what a finished check says."""
     plan = planned.plan
-    table = concatenate_pieces(planned.segments, tables)
+    table, kept = concatenate_pieces(planned.segments, tables)
     clock = StageClock.from_metadata(planned.segments[0][1].metadata)
+    regions = concatenate_regions([find_regions(segment.meshes, segment_table, segment.times, options.thickness,
+                                                segment_range)
+                                   for (segment_range, segment), segment_table in zip(planned.segments, tables)],
+                                  table, kept)
     comparison = None
     if baseline is not None:
         mismatch = mismatch_warning(baseline, _mesh_of(planned.segments[0][1].stage, table.paths), name)
         if mismatch is not None:
             say(WARNING, mismatch, BASELINE_MISMATCH)
-        comparison = compare(table, baseline)
+        comparison = compare_any(table, regions, clock, baseline)
         for level, text in baseline_messages(comparison, clock):
             say(level, text)
     for text in mesh_pair_lines(table, clock, None if comparison is None else comparison.known):
+        say(INFO, text)
+    for text in region_lines(regions, table, clock, REGION_LINES_VERBOSE):
         say(INFO, text)
 
     exit_code = CONTACTS_FOUND if (comparison.new_count if comparison else table.count) else CLEAN
@@ -191,12 +201,18 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
     findings = [{"level": message.level, "kind": message.kind, "text": message.text} for message in messages
                 if message.level in (WARNING, ERROR) or message.kind is not None]
     files, stdout = render_files(shot, name, options, targets, planned.segments, plan, tables, table, clock,
-                                 exit_code, span, crosscheck_text, comparison, planned.coverage, findings)
+                                 exit_code, span, crosscheck_text, comparison, planned.coverage, findings, regions)
+    pictures = {}
+    if targets.report_path is not None:
+        from .report import region_pictures_of   # PyVista and VTK: only for a report
+
+        pictures = region_pictures_of(planned.segments, regions, table)
     return CheckResult(shot=name, options=options, exit_code=exit_code, table=table, plan=plan, span=span,
                        seconds=time.monotonic() - started, counters=counters,
                        messages=messages, files=files, stdout=stdout,
                        segments=[(r, t) for (r, _), t in zip(planned.segments, tables)], clock=clock,
-                       baseline=comparison, threads=options.threads or default_threads(), coverage=planned.coverage)
+                       baseline=comparison, threads=options.threads or default_threads(), coverage=planned.coverage,
+                       regions=regions, pictures=pictures)
 
 
 def _mesh_of(stage, loaded: Optional[Sequence[str]]) -> Callable[[str], bool]:

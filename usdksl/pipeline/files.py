@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, Optional, Sequence, Tuple, Union
 
+import numpy as np
+
 from ..clock import StageClock
 from ..contacts.baseline import BaselineComparison
 from ..contacts.csv_file import contacts_csv
@@ -19,6 +21,8 @@ from ..errors import UsdkslUsageError
 from ..reading.loader import open_stage
 from ..reading.scope import Plan
 from ..reading.segments import topology_epochs
+from ..regions.csv_file import regions_csv
+from ..regions.table import RegionTable
 from ..reports.formats import json_report, summary_csv
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import override_layer, override_layer_name, provenance_data, shot_stem
@@ -45,12 +49,17 @@ class OutputTargets:
     json_to_stdout: bool = False
     #: --plot: the contact timeline PNG (usdksl.reports.timeline).
     plot_path: Optional[Path] = None
+    #: --report: the run's illustrated page (usdksl.pipeline.report); a check with one draws its worst regions.
+    report_path: Optional[Path] = None
 
     def contacts_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.contacts.csv"
 
     def summary_csv(self, shot: str) -> Path:
         return self.out_dir / f"{shot_stem(shot)}.summary.csv"
+
+    def regions_csv(self, shot: str) -> Path:
+        return self.out_dir / f"{shot_stem(shot)}.regions.csv"
 
     def override_layer(self, shot: str, binary: bool = False) -> Path:
         """``<stem>.usdksl.usda``, or ``.usdksl.usdc`` for a layer written as a crate file."""
@@ -66,7 +75,8 @@ class OutputTargets:
 
 
 def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str] = None,
-                   junit_path: Optional[str] = None, plot_path: Optional[str] = None) -> OutputTargets:
+                   junit_path: Optional[str] = None, plot_path: Optional[str] = None,
+                   report_path: Optional[str] = None) -> OutputTargets:
     """Resolve and check the output locations before any work is done: ``out`` defaults to the shot's
     folder; ``json_path`` '-' means stdout. Raises UsdkslInputError for a missing shot and
     UsdkslUsageError for a folder that cannot be written."""
@@ -74,7 +84,7 @@ def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str
         open_stage(shot)   # a missing input is reported as such, before anything about the output folder
     out_dir = Path(out) if out else Path(shot).resolve().parent
     check_writable_directory(out_dir)
-    extra = [resolve_output_path(value) for value in (json_path, junit_path, plot_path)]
+    extra = [resolve_output_path(value) for value in (json_path, junit_path, plot_path, report_path)]
     for target in extra:
         if target is not None:
             check_writable_directory(target.resolve().parent)
@@ -82,15 +92,27 @@ def output_targets(shot: str, out: Optional[str] = None, json_path: Optional[str
         from ..reports.timeline import require_matplotlib
 
         require_matplotlib()
+    if report_path is not None:
+        require_report_libraries()
     return OutputTargets(out_dir=out_dir, json_path=extra[0], junit_path=extra[1],
-                         json_to_stdout=json_path == "-", plot_path=extra[2])
+                         json_to_stdout=json_path == "-", plot_path=extra[2], report_path=extra[3])
+
+
+def require_report_libraries() -> None:
+    """Exit 2 before any check when what --report needs is missing (matplotlib, PyVista and VTK)."""
+    from ..reports.html_report import require_matplotlib as require_timeline
+    from ..reports.pictures import require_pyvista
+
+    require_timeline()
+    require_pyvista()
 
 
 def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTargets, segments, plan: Plan,
                  tables: Sequence[ContactTable], table: ContactTable, clock: StageClock, exit_code: int,
                  span: TimeRange, crosscheck_text: Optional[str] = None,
                  comparison: Optional[BaselineComparison] = None, coverage: Optional[Coverage] = None,
-                 findings: Optional[list] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
+                 findings: Optional[list] = None,
+                 regions: Optional[RegionTable] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
     """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
     stdout or None), in write order.
 
@@ -100,8 +122,11 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     (usdksl.reports.manifest)."""
     files: Dict[Path, FileData] = {}
     known = None if comparison is None else comparison.known
-    files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known)
+    files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known,
+                                                     None if regions is None else regions.row_ids)
     files[targets.summary_csv(shot)] = summary_csv(table, clock, known)
+    if regions is not None:
+        files[targets.regions_csv(shot)] = regions_csv(regions, table, clock, known)
     if crosscheck_text is not None:
         files[targets.crosscheck_csv(shot)] = crosscheck_text
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
@@ -109,7 +134,7 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     shot_sha256 = file_sha256(root_layer_file(shot))
     layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
                            segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
-                           else None, span=span,
+                           else None, span=span, regions=regions,
                            provenance=provenance_data(shot_sha256, options.settings()))
     files[targets.override_layer(shot, layer.binary)] = layer.data()
     files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
@@ -123,7 +148,8 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
         json_text = json_report(name, options.settings(), plan, table, exit_code, clock,
                                 version=package_version(),
                                 baseline=None if comparison is None else comparison.to_dict(), known=known,
-                                coverage=None if coverage is None else coverage.to_dict(), findings=findings)
+                                coverage=None if coverage is None else coverage.to_dict(), findings=findings,
+                                regions=regions)
         if targets.json_path is not None:
             files[targets.json_path] = json_text
         else:
@@ -150,9 +176,10 @@ def root_layer_file(shot: str) -> str:
     return text
 
 
-def concatenate_pieces(segments, tables: Sequence[ContactTable]) -> ContactTable:
+def concatenate_pieces(segments, tables: Sequence[ContactTable]) -> Tuple[ContactTable, np.ndarray]:
     """The contacts of a shot checked in pieces ([(range, Shot)], usdksl.reading.segments) as one table: a face
-    pair whose meshes keep their faces across pieces is reported once, at its first contact."""
+    pair whose meshes keep their faces across pieces is reported once, at its first contact; with the position
+    of each of its rows among the pieces' rows (ContactTable.concatenate_rows)."""
     if len(tables) == 1:
-        return tables[0]
-    return ContactTable.concatenate(list(tables), topology_epochs([shot for _, shot in segments]))
+        return tables[0], np.arange(tables[0].count, dtype=np.int64)
+    return ContactTable.concatenate_rows(list(tables), topology_epochs([shot for _, shot in segments]))

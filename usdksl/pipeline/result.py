@@ -10,6 +10,7 @@ from ..clock import StageClock
 from ..contacts.baseline import BaselineComparison
 from ..contacts.table import ContactTable
 from ..reading.scope import Plan
+from ..regions.table import RegionTable
 from ..reports.formats import summary_line
 from .coverage import Coverage
 from .files import FileData
@@ -45,6 +46,10 @@ class CheckResult:
     threads: int = 1
     #: Every prim and stretch of the checked range, checked or not, with why (usdksl.pipeline.coverage).
     coverage: Optional[Coverage] = None
+    #: The contacts grouped into regions, each measured (usdksl.regions); None for a result made without them.
+    regions: Optional[RegionTable] = None
+    #: {region row: PNG} of the worst regions, drawn when the check has a report target (--report).
+    pictures: Dict[int, bytes] = field(default_factory=dict)
 
     @property
     def undecided(self) -> int:
@@ -62,4 +67,4 @@ class CheckResult:
         return summary_line(self.table, self.plan, self.span, self.seconds, self.clock,
                             None if self.baseline is None else self.baseline.known,
                             None if self.baseline is None else self.baseline.fixed_count,
-                            "" if self.coverage is None else self.coverage.summary_phrase())
+                            "" if self.coverage is None else self.coverage.summary_phrase(), self.regions)

@@ -17,10 +17,12 @@ from typing import Optional
 
 import numpy as np
 
-from ..clock import StageClock
+from ..clock import StageClock, console_number
 from ..contacts.csv_file import KNOWN, NEW, STATUS_COLUMN
 from ..contacts.table import ContactTable
 from ..reading.scope import PAIR_RIGID_ONLY
+from ..regions.csv_file import region_records
+from ..regions.table import PENETRATION, RegionTable
 
 SUMMARY_COLUMNS = ("prim_a", "prim_b", "kind", "first_contact_time", "face_pairs", "first_contact_frame",
                    "first_contact_seconds")
@@ -89,10 +91,12 @@ def clock_settings(clock: StageClock) -> dict:
 
 def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_code: int, clock: StageClock,
                 version: str = "", baseline: Optional[dict] = None, known: Optional[np.ndarray] = None,
-                coverage: Optional[dict] = None, findings: Optional[list] = None) -> str:
+                coverage: Optional[dict] = None, findings: Optional[list] = None,
+                regions: Optional[RegionTable] = None) -> str:
     """The --json document: shot, settings, clock, plan, coverage (usdksl.pipeline.coverage.Coverage.to_dict),
-    findings (warnings with their stable kind), summary rows, contacts, exit code; with a baseline its comparison
-    (BaselineComparison.to_dict) and each contact's status."""
+    findings (warnings with their stable kind), summary rows, regions (the regions.csv columns; each contact then
+    has its ``region``), contacts, exit code; with a baseline its comparison (BaselineComparison.to_dict) and each
+    contact's and region's status."""
     document = {
         "tool": "usdksl",
         "version": version,
@@ -103,10 +107,14 @@ def json_report(shot_path: str, settings: dict, plan, table: ContactTable, exit_
         "coverage": coverage,
         "findings": list(findings or []),
         "summary": summary_rows(table, clock, known),
+        "regions": [] if regions is None else _finite(region_records(regions, table, clock, known)),
         "contacts": contact_records(table, clock, known),
         "contact_count": table.count,
         "exit_code": int(exit_code),
     }
+    if regions is not None:
+        for record, region in zip(document["contacts"], regions.row_ids.tolist()):
+            record["region"] = region
     if baseline is not None:
         document["baseline"] = baseline
     return json.dumps(document, indent=1, allow_nan=False) + "\n"
@@ -128,12 +136,47 @@ def mesh_pair_lines(table: ContactTable, clock: StageClock, known: Optional[np.n
     return lines
 
 
+def _finite(records: list) -> list:
+    """Records with NaN and infinite numbers as None (JSON has no NaN)."""
+    return [{key: (None if isinstance(value, float) and not np.isfinite(value) else value)
+             for key, value in record.items()} for record in records]
+
+
+def depth_text(measure: str, depth: float) -> str:
+    """A region's depth as the console says it: ``0.031 deep`` or ``intersection 0.2 long``."""
+    return f"{depth:.3g} deep" if measure == PENETRATION else f"intersection {depth:.3g} long"
+
+
+def region_lines(regions: Optional[RegionTable], table: ContactTable, clock: StageClock, limit: int) -> list:
+    """Console lines (``usdksl check -v``) for up to ``limit`` regions, deepest first, then how many more."""
+    if regions is None or regions.count == 0:
+        return []
+    names = regions.paths if regions.paths is not None else [str(i) for i in range(
+        int(max(regions.mesh_a.max(), regions.mesh_b.max())) + 1)]
+    lines = []
+    for row in regions.worst_first()[:limit].tolist():
+        a, b = int(regions.mesh_a[row]), int(regions.mesh_b[row])
+        pair = names[a] if a == b else f"{names[a]} x {names[b]}"
+        count = int(regions.face_pairs[row])
+        where = ", ".join(f"{value:.4g}" for value in regions.center[row].tolist())
+        lines.append(f"region {row + 1}: {pair} ({'self' if a == b else 'inter'}): "
+                     f"{depth_text(regions.depth_measure[row], float(regions.max_depth[row]))} at "
+                     f"frame {console_number(clock.frame(float(regions.max_depth_time[row])))}, frames "
+                     f"{console_number(clock.frame(float(regions.first_time[row])))}..{console_number(clock.frame(float(regions.last_time[row])))}, "
+                     f"{count} face pair{'s' if count != 1 else ''}, around ({where})")
+    if regions.count > limit:
+        lines.append(f"{regions.count - limit} more regions in the regions.csv report")
+    return lines
+
+
 def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds: float,
-                 clock: StageClock, known: Optional[np.ndarray] = None, fixed: int = 0, unchecked: str = "") -> str:
+                 clock: StageClock, known: Optional[np.ndarray] = None, fixed: int = 0, unchecked: str = "",
+                 regions: Optional[RegionTable] = None) -> str:
     """The final line printed after every run; with ``known`` (from a baseline) it says how many contacts
     are new and known, and ``fixed`` how many baseline entries no longer occur. ``unchecked``: what the
     coverage account says went unchecked (usdksl.pipeline.coverage.Coverage.summary_phrase); a shot with
-    no contacts is then not called clean."""
+    no contacts is then not called clean. With ``regions`` it counts problems (contact regions) first and
+    names the deepest."""
     pairs = len(table.summary())
     span = "" if time_range is None else f" over {time_range[0]:g}..{time_range[1]:g}"
     checked = f"checked {plan.checked_pairs} pair{'s' if plan.checked_pairs != 1 else ''}{span} in {seconds:.1f}s"
@@ -147,8 +190,16 @@ def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds
         verdict = "no contacts in what was checked" if unchecked else "clean: no contacts"
         return f"usdksl: {verdict}{fixed_text if fixed else ''}; {checked}"
     first = float(table.time[0])
-    found = (f"{table.count} contacting face pair{'s' if table.count != 1 else ''} in {pairs} mesh "
-             f"pair{'s' if pairs != 1 else ''}, first at {clock.describe(first)}")
+    faces = f"{table.count} contacting face pair{'s' if table.count != 1 else ''}"
+    in_pairs = f"in {pairs} mesh pair{'s' if pairs != 1 else ''}"
+    if regions is None or regions.count == 0:
+        found = f"{faces} {in_pairs}, first at {clock.describe(first)}"
+    else:
+        deepest = int(regions.worst_first()[0])
+        found = (f"{regions.count} problem{'s' if regions.count != 1 else ''} {in_pairs} ({faces}), first at "
+                 f"{clock.describe(first)}, worst region {deepest + 1}: "
+                 f"{depth_text(regions.depth_measure[deepest], float(regions.max_depth[deepest]))} at frame "
+                 f"{console_number(clock.frame(float(regions.max_depth_time[deepest])))}")
     if table.last_time is not None:
         found += f", last at {clock.describe(float(table.last_time.max()))}"
     if known is None:

@@ -54,6 +54,33 @@ go on the instancer prim instead:
 ``int usdksl:contactInstanceCount``, ``rel usdksl:contactsWith``, ``double usdksl:firstContactTime``
     as for a mesh, over all its instances. A mesh touched by an instance lists the instancer in its
     ``usdksl:contactsWith``.
+
+With the check's contact regions (a :class:`~usdksl.regions.table.RegionTable` over the same contact rows,
+docs/contracts.md, Regions), every checked mesh that has contacts also gets:
+
+``int[] primvars:usdksl:region`` (interpolation uniform)
+    one value per authored face: the id of the region of that face's earliest contact (the contact row
+    whose time ``primvars:usdksl:firstContactTime`` holds; of rows at the same time, the first in the
+    table's canonical order), **0 for a face in no region** (ids start at 1). Like the first contact times,
+    per segment for a mesh whose topology changes;
+``int[] usdksl:regions``
+    the ids of the regions the mesh is a side of, ascending, and beside it one value per region, in that
+    order: ``double[] usdksl:regionFirstFrame``, ``double[] usdksl:regionLastFrame`` (frames on the stage's
+    clock, as regions.csv has them), ``double[] usdksl:regionMaxDepth`` (scene units),
+    ``token[] usdksl:regionDepthMeasure`` (``penetration`` or ``intersection_length``: what the depth
+    measures) and ``string[] usdksl:regionWith`` (the region's other side: a prim path, or an instance
+    path such as ``/World/scatter[3]/box``; the mesh itself for a self region).
+
+These are attributes rather than ``customData``: usdview lists a selected prim's attributes with their
+values in its attribute view (and shows a whole array in the value viewer), while ``customData`` only
+shows as raw metadata text; attributes also keep their types (``Get()`` returns ints and doubles) and
+read the same in every DCC. A face the user picks in usdview (its ``primvars:usdksl:region``) is looked up
+in ``usdksl:regions`` of its mesh to read when and how deep that problem is.
+
+A PointInstancer's instances share their prototype's faces, so no region is written per face of an
+instance: the instancer gets ``int[] usdksl:instanceRegion`` (one value per instance index: the region of
+that instance's earliest contact, 0 for none) and the region arrays above over all its instances (in
+``usdksl:regionWith`` the side that is not one of its instances; side b when both are).
 """
 
 from __future__ import annotations
@@ -66,6 +93,8 @@ from typing import Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from ..clock import StageClock
+from ..regions.table import FIRST_REGION_ID, RegionTable
 from ..unmasked import distinct_sorted
 
 CONTACT_COLOR = (1.0, 0.1, 0.1)
@@ -77,6 +106,16 @@ REL_CONTACTS_WITH = "usdksl:contactsWith"
 ATTR_INSTANCE_FIRST_CONTACT_TIME = "usdksl:instanceFirstContactTime"
 ATTR_CONTACT_INSTANCE_COUNT = "usdksl:contactInstanceCount"
 PRIMVAR_FIRST_CONTACT_TIME = "primvars:usdksl:firstContactTime"
+PRIMVAR_REGION = "primvars:usdksl:region"
+ATTR_REGIONS = "usdksl:regions"
+ATTR_REGION_FIRST_FRAME = "usdksl:regionFirstFrame"
+ATTR_REGION_LAST_FRAME = "usdksl:regionLastFrame"
+ATTR_REGION_MAX_DEPTH = "usdksl:regionMaxDepth"
+ATTR_REGION_DEPTH_MEASURE = "usdksl:regionDepthMeasure"
+ATTR_REGION_WITH = "usdksl:regionWith"
+ATTR_INSTANCE_REGION = "usdksl:instanceRegion"
+#: primvars:usdksl:region (and usdksl:instanceRegion) of a face (instance) in no region: region ids start above it.
+NO_REGION_ID = FIRST_REGION_ID - 1
 PRIMVAR_DISPLAY_COLOR = "primvars:displayColor"
 PRIMVAR_DISPLAY_COLOR_INDICES = PRIMVAR_DISPLAY_COLOR + ":indices"
 #: Index of each colour in primvars:displayColor.
@@ -123,6 +162,50 @@ def face_first_contact_times(table, mesh_index: int, face_count: int) -> np.ndar
             np.minimum.at(first, face_side[rows], table.time[rows])
     first[np.isinf(first)] = np.nan
     return first
+
+
+def face_regions(table, row_ids: np.ndarray, mesh_index: int, face_count: int) -> np.ndarray:
+    """int32[face_count]: the region id (``row_ids``, one per row of ``table``) of each face's earliest contact
+    as either side of a row, NO_REGION_ID when it never touches. Of rows at that same time the first in the
+    table's order wins, so the face's region is the one of the row its first contact time comes from."""
+    chosen = [np.flatnonzero(side == mesh_index) for side in (table.mesh_a, table.mesh_b)]
+    rows = np.concatenate(chosen)
+    faces = np.concatenate([table.face_a[chosen[0]], table.face_b[chosen[1]]]).astype(np.int64)
+    regions = np.full(face_count, NO_REGION_ID, np.int32)
+    if rows.size:
+        order = np.lexsort((rows, table.time[rows], faces))
+        faces, rows = faces[order], rows[order]
+        first = np.flatnonzero(np.concatenate([[True], faces[1:] != faces[:-1]]))
+        regions[faces[first]] = np.asarray(row_ids)[rows[first]]
+    return regions
+
+
+def segment_row_ids(segments: Sequence[tuple], row_ids: np.ndarray) -> List[np.ndarray]:
+    """Per segment ((range, Shot, ContactTable) as :func:`override_layer` takes them), int64[rows of its
+    table]: the region id of each row, given ``row_ids`` per row of the shot's one table. That table is
+    :meth:`ContactTable.concatenate` of the segments' tables over their topology epochs, which keeps a face
+    pair found again in a later segment with the same faces once, at its first row: the same grouping is
+    made here, so a row that was merged away takes the region of the row that was kept."""
+    from ..reading.segments import topology_epochs
+
+    tables = [segment_table for _, _, segment_table in segments]
+    counts = [segment_table.count for segment_table in tables]
+    row_ids = np.asarray(row_ids, dtype=np.int64)
+    if not sum(counts):
+        return [np.zeros(0, np.int64) for _ in tables]
+    epochs = topology_epochs([segment_shot for _, segment_shot, _ in segments])
+    piece = np.repeat(np.arange(len(tables)), counts)
+    mesh_a = np.concatenate([segment_table.mesh_a for segment_table in tables]).astype(np.int64)
+    mesh_b = np.concatenate([segment_table.mesh_b for segment_table in tables]).astype(np.int64)
+    face_a = np.concatenate([segment_table.face_a for segment_table in tables]).astype(np.int64)
+    face_b = np.concatenate([segment_table.face_b for segment_table in tables]).astype(np.int64)
+    key = np.stack([mesh_a, face_a, epochs[piece, mesh_a], mesh_b, face_b, epochs[piece, mesh_b]], axis=1)
+    _, first, group = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    kept = np.sort(first)           # the one table's rows: the first row of each group, in segment order
+    if kept.size != row_ids.size:
+        raise ValueError(f"the regions are of a table of {row_ids.size} rows, the segments make {kept.size}")
+    joined_row = np.searchsorted(kept, first)[group.reshape(-1)]
+    return np.split(row_ids[joined_row], np.cumsum(counts)[:-1])
 
 
 def touched_meshes(table, mesh_index: int) -> np.ndarray:
@@ -196,7 +279,8 @@ def _usd_dictionary(values: dict) -> dict:
 
 def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union[str, os.PathLike],
                    segments: Optional[Sequence[tuple]] = None,
-                   span: Optional[Tuple[float, float]] = None, provenance: Optional[dict] = None) -> OverrideLayer:
+                   span: Optional[Tuple[float, float]] = None, provenance: Optional[dict] = None,
+                   regions: Optional[RegionTable] = None) -> OverrideLayer:
     """The override layer for ``shot`` (usdksl.reading.loader.Shot) and its ContactTable.
 
     ``checked_meshes``: indices into shot.meshes that took part in at least one checked pair.
@@ -208,8 +292,17 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
     the mesh-level values cover all segments, and ``usdksl:contactFaceCount`` then adds up the touching
     faces of every segment.
     ``provenance``: the ``usdksl`` customLayerData dictionary (:func:`provenance_data`); None: none written.
+    ``regions``: the check's :class:`~usdksl.regions.table.RegionTable` over the rows of ``table`` (the one
+    table of all segments); None: no region is written and the layer is what it was without regions.
     """
     from pxr import Sdf, Vt
+
+    row_ids = None
+    segment_ids: Optional[List[np.ndarray]] = None   # region id per row of each segment's table, when needed
+    if regions is not None:
+        if regions.row_region.shape[0] != table.count:
+            raise ValueError(f"regions of {regions.row_region.shape[0]} contact rows for a table of {table.count}")
+        row_ids = regions.row_ids
 
     layer = Sdf.Layer.CreateAnonymous("usdksl.usda")
     layer.subLayerPaths.append(relative_sublayer_path(shot.path, Path(layer_path).parent))
@@ -241,7 +334,8 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
             instancers.setdefault(mesh.instancer, []).append(index)
             continue
         # (time range, face times, whether the range is one segment of several) per authored value
-        if segments and len(segments) > 1 and not _same_topology_everywhere(segments, index):
+        segmented = bool(segments and len(segments) > 1 and not _same_topology_everywhere(segments, index))
+        if segmented:
             values = [(segment_span, face_first_contact_times(segment_table, index,
                                                               segment_shot.meshes[index].face_count), True)
                       for segment_span, segment_shot, segment_table in segments]
@@ -286,13 +380,77 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
                 layer.SetTimeSample(indices.path, float(time),
                                     Vt.IntArray.FromNumpy(_color_indices(face_times, time)))
                 elements += face_times.size
+        if regions is not None and rows.any():
+            if segmented:
+                segment_ids = segment_ids if segment_ids is not None else segment_row_ids(segments, row_ids)
+                face_values = [(segment_span, face_regions(segment_table, ids, index,
+                                                           segment_shot.meshes[index].face_count))
+                               for (segment_span, segment_shot, segment_table), ids in zip(segments, segment_ids)]
+            else:
+                face_values = [(None, face_regions(table, row_ids, index, mesh.face_count))]
+            elements += _author_face_regions(spec, face_values)
+            elements += _author_region_list(spec, [index], regions, _clock_of(shot), paths)
         reviewed.append(spec)
         _bind_review_material(spec, _material_subsets(shot.stage, mesh.path))
     if reviewed:
         _define_review_material(layer)
     for instancer, indices in sorted(instancers.items()):
-        _author_instancer(layer, shot, instancer, indices, table, targets)
+        elements += _author_instancer(layer, shot, instancer, indices, table, targets, regions, paths)
     return OverrideLayer(layer=layer, array_elements=elements)
+
+
+def _clock_of(shot) -> StageClock:
+    """The shot's clock (its stage metadata), for the frames of the region arrays."""
+    return StageClock.from_metadata(shot.metadata)
+
+
+def _author_face_regions(spec, face_values: Sequence[tuple]) -> int:
+    """primvars:usdksl:region from [(segment range or None, int32[F] region per face)]: the default value, or
+    for a mesh whose topology changes a sample at each end of every segment, as the first contact times.
+    Returns the array elements authored."""
+    from pxr import Sdf, Vt
+
+    primvar = Sdf.AttributeSpec(spec, PRIMVAR_REGION, Sdf.ValueTypeNames.IntArray)
+    primvar.SetInfo("interpolation", "uniform")
+    elements = 0
+    for segment_span, face_ids in face_values:
+        value = Vt.IntArray.FromNumpy(np.ascontiguousarray(face_ids, dtype=np.int32))
+        if segment_span is None:
+            primvar.default = value
+            elements += face_ids.size
+            continue
+        for time in sorted(set(segment_span)):
+            spec.layer.SetTimeSample(primvar.path, float(time), value)
+            elements += face_ids.size
+    return elements
+
+
+def _author_region_list(spec, own: Sequence[int], regions: RegionTable, clock: StageClock,
+                        paths: Sequence[str]) -> int:
+    """usdksl:regions and the per-region arrays beside it (module docstring) for the regions that a mesh of
+    ``own`` (indices into the shot's meshes) is a side of. Returns the array elements authored."""
+    from pxr import Sdf, Vt
+
+    mine_a, mine_b = np.isin(regions.mesh_a, own), np.isin(regions.mesh_b, own)
+    chosen = np.flatnonzero(mine_a | mine_b)           # ascending rows: ascending ids
+    other = np.where(mine_a[chosen], regions.mesh_b[chosen], regions.mesh_a[chosen])
+    names = np.array(list(paths), dtype=object)
+    values = ((ATTR_REGIONS, Sdf.ValueTypeNames.IntArray, Vt.IntArray.FromNumpy(
+                  regions.ids[chosen].astype(np.int32))),
+              (ATTR_REGION_FIRST_FRAME, Sdf.ValueTypeNames.DoubleArray, Vt.DoubleArray.FromNumpy(
+                  np.asarray(clock.frames(regions.first_time[chosen]), dtype=np.float64))),
+              (ATTR_REGION_LAST_FRAME, Sdf.ValueTypeNames.DoubleArray, Vt.DoubleArray.FromNumpy(
+                  np.asarray(clock.frames(regions.last_time[chosen]), dtype=np.float64))),
+              (ATTR_REGION_MAX_DEPTH, Sdf.ValueTypeNames.DoubleArray, Vt.DoubleArray.FromNumpy(
+                  np.asarray(regions.max_depth[chosen], dtype=np.float64))),
+              (ATTR_REGION_DEPTH_MEASURE, Sdf.ValueTypeNames.TokenArray, Vt.TokenArray(
+                  [str(measure) for measure in regions.depth_measure[chosen].tolist()])),
+              (ATTR_REGION_WITH, Sdf.ValueTypeNames.StringArray, Vt.StringArray(
+                  [str(name) for name in names[other].tolist()])))
+    for name, value_type, value in values:
+        attribute = Sdf.AttributeSpec(spec, name, value_type, declaresCustom=True)
+        attribute.default = value
+    return len(values) * int(chosen.size)
 
 
 def color_sample_times(face_times: np.ndarray, start: float) -> List[float]:
@@ -377,8 +535,11 @@ def _instance_count(stage, instancer: str, time: float, fallback: int) -> int:
     return max(len(indices) if indices is not None else 0, fallback)
 
 
-def _author_instancer(layer, shot, instancer: str, indices: Sequence[int], table, targets) -> None:
-    """Per-instance first contact times and instancer-level totals (module docstring)."""
+def _author_instancer(layer, shot, instancer: str, indices: Sequence[int], table, targets,
+                      regions: Optional[RegionTable] = None, paths: Sequence[str] = ()) -> int:
+    """Per-instance first contact times and instancer-level totals (module docstring); with ``regions`` the
+    region of each instance's first contact and the instancer's region arrays. Returns the array elements
+    authored with regions (the rest is not counted, as before regions)."""
     from pxr import Sdf, Vt
 
     meshes = [shot.meshes[i] for i in indices]
@@ -408,6 +569,32 @@ def _author_instancer(layer, shot, instancer: str, indices: Sequence[int], table
     if not np.isnan(first).all():
         earliest = Sdf.AttributeSpec(spec, ATTR_FIRST_CONTACT_TIME, Sdf.ValueTypeNames.Double, declaresCustom=True)
         earliest.default = float(np.nanmin(first))
+    if regions is None or np.isnan(first).all():
+        return 0
+    instance_regions = _instance_regions(table, regions.row_ids, indices, [mesh.instance_index for mesh in meshes],
+                                         count)
+    per_instance = Sdf.AttributeSpec(spec, ATTR_INSTANCE_REGION, Sdf.ValueTypeNames.IntArray, declaresCustom=True)
+    per_instance.default = Vt.IntArray.FromNumpy(instance_regions)
+    return count + _author_region_list(spec, list(indices), regions, _clock_of(shot), paths)
+
+
+def _instance_regions(table, row_ids: np.ndarray, indices: Sequence[int], instance_indices: Sequence[int],
+                      count: int) -> np.ndarray:
+    """int32[count]: per instance index the region id of the earliest contact of any of its meshes (shot
+    mesh ``indices``, instance ``instance_indices``), NO_REGION_ID for an instance that never touches; of rows
+    at the same time the first in the table's order."""
+    instance_of = np.full(max(indices) + 1, -1, np.int64)
+    instance_of[np.asarray(indices, dtype=np.int64)] = np.asarray(instance_indices, dtype=np.int64)
+    rows = np.concatenate([np.flatnonzero(np.isin(side, indices)) for side in (table.mesh_a, table.mesh_b)])
+    instances = np.concatenate([instance_of[table.mesh_a[np.isin(table.mesh_a, indices)]],
+                                instance_of[table.mesh_b[np.isin(table.mesh_b, indices)]]])
+    result = np.full(count, NO_REGION_ID, np.int32)
+    if rows.size:
+        order = np.lexsort((rows, table.time[rows], instances))
+        instances, rows = instances[order], rows[order]
+        first = np.flatnonzero(np.concatenate([[True], instances[1:] != instances[:-1]]))
+        result[instances[first]] = np.asarray(row_ids)[rows[first]]
+    return result
 
 
 def _enclosing_instances(stage, prim_path: str):
@@ -446,4 +633,4 @@ def shot_stem(shot_path: Union[str, os.PathLike]) -> str:
 
 
 __all__ = ["OverrideLayer", "override_layer", "provenance_data", "color_sample_times", "build_override_layer", "face_first_contact_times", "touched_meshes", "relative_sublayer_path",
-           "override_layer_name", "shot_stem"]
+           "override_layer_name", "shot_stem", "face_regions", "segment_row_ids"]

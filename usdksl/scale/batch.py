@@ -16,13 +16,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Dict, Iterable, List, Optional, Sequence
 
-from ..contacts.baseline import Baseline, baseline_for_shot
+from ..regions.baseline import AnyBaseline, baseline_for_shot
 from ..errors import UsdkslInputError, UsdkslUsageError
 from ..exit_codes import CLEAN, CONTACTS_FOUND, CROSSCHECK_DISAGREES, INPUT_ERROR
 from ..pipeline.check import check_shot
-from ..pipeline.files import OutputTargets, output_targets
+from ..pipeline.files import OutputTargets, output_targets, require_report_libraries
 from ..pipeline.messages import WARNING, Message
 from ..pipeline.options import CheckOptions
+from ..pipeline.report import report_html
 from ..pipeline.result import CheckResult
 from ..reports.junit import error_suite, junit_document, shot_suite
 from ..reports.output import check_writable_directory, write_files
@@ -68,19 +69,23 @@ class ShotOutcome:
 
 def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str] = None,
               junit_path: Optional[str] = None, baseline: Optional[str] = None,
-              baseline_time_tolerance: Optional[float] = None, plot_path: Optional[str] = None) -> List[object]:
+              baseline_time_tolerance: Optional[float] = None, plot_path: Optional[str] = None,
+              report_path: Optional[str] = None) -> List[object]:
     """A ShotJob per shot, or a failed ShotOutcome for a shot whose file or output folder is unusable.
 
     ``junit_path`` and ``json_path`` are only checked to be writable: the jobs do not write them, the caller
-    writes one document for all shots (:func:`junit_for_outcomes`, :func:`json_for_outcomes`); each job's
+    writes one document for all shots (:func:`junit_for_outcomes`, :func:`json_for_outcomes`,
+    :func:`report_for_outcomes`: with ``report_path`` each job draws its worst regions); each job's
     JSON document comes back as its result's ``stdout``. Raises UsdkslUsageError when the call cannot work
     at all: --plot or a baseline file (not a folder) with several shots, a baseline that does not exist, or
     two shots that would write the same files."""
     if len(shots) > 1 and plot_path:
         raise UsdkslUsageError(f"--plot takes one shot; got {len(shots)}")
-    for report in (junit_path, json_path):
+    for report in (junit_path, json_path, report_path):
         if report and report != "-":
             check_writable_directory(Path(report).resolve().parent)
+    if report_path is not None:
+        require_report_libraries()
     if baseline is not None:
         if not os.path.exists(baseline):
             raise UsdkslUsageError("baseline not found", file=baseline)
@@ -98,7 +103,8 @@ def make_jobs(shots: Sequence[str], out: Optional[str], json_path: Optional[str]
             continue
         targets = OutputTargets(out_dir=targets.out_dir.resolve(),
                                 json_to_stdout=targets.json_to_stdout,
-                                plot_path=targets.plot_path and targets.plot_path.resolve())
+                                plot_path=targets.plot_path and targets.plot_path.resolve(),
+                                report_path=None if report_path is None else Path(report_path).resolve())
         written = targets.contacts_csv(shot)
         if written in owners:
             raise UsdkslUsageError(f"{owners[written]} and {shot} would both write {written}; "
@@ -115,7 +121,7 @@ def run_job(job: ShotJob, options: CheckOptions) -> ShotOutcome:
                                                              baseline=baseline))
 
 
-def checked_outcome(job: ShotJob, check: Callable[[Optional[Baseline]], CheckResult]) -> ShotOutcome:
+def checked_outcome(job: ShotJob, check: Callable[[Optional[AnyBaseline]], CheckResult]) -> ShotOutcome:
     """The outcome of ``check(baseline)`` for ``job`` (its baseline read first); never raises: bad input
     or a crash is an outcome with exit code 2 and one line."""
     notes: List[Message] = []
@@ -190,6 +196,12 @@ def json_for_outcomes(outcomes: Sequence[ShotOutcome]) -> Optional[str]:
             document = json.loads(outcome.result.stdout)
         lines.append(json.dumps(document, separators=(",", ":"), allow_nan=False) + "\n")
     return "".join(lines)
+
+
+def report_for_outcomes(outcomes: Sequence[ShotOutcome]) -> str:
+    """The --report page of a batch: one section per shot in the order of ``outcomes``, a shot that failed
+    with its error line."""
+    return report_html([(outcome.name, outcome.result, outcome.exit_code, outcome.error) for outcome in outcomes])
 
 
 def worst_exit_code(outcomes: Iterable[ShotOutcome]) -> int:

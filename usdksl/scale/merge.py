@@ -26,7 +26,7 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..contacts.baseline import Baseline
+from ..regions.baseline import AnyBaseline
 from ..contacts.csv_file import CONTACT_COLUMNS, read_contacts_csv
 from ..contacts.table import ContactTable, face_pair_ids, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
@@ -231,7 +231,7 @@ def merged_last_times(table: ContactTable, tables: Sequence[ContactTable], paths
 
 
 def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
-                 baseline: Optional[Baseline] = None, time_range: Optional[TimeRange] = None) -> CheckResult:
+                 baseline: Optional[AnyBaseline] = None, time_range: Optional[TimeRange] = None) -> CheckResult:
     """What ``usdksl check SHOT --time-range START END`` writes, START..END the union of the chunks'
     ranges, from the chunks' outputs (with ``baseline``: what that check with ``--baseline`` writes).
     The chunks must cover the shot's whole checked range, or with ``time_range`` (time codes, a part of
@@ -251,7 +251,7 @@ def merge_chunks(shot: str, folders: Sequence[str], targets: OutputTargets,
 
 
 def merge_parts(shot: str, name: str, options: CheckOptions, targets: OutputTargets, parts: Sequence,
-                baseline: Optional[Baseline] = None, core_messages: Sequence[Message] = (),
+                baseline: Optional[AnyBaseline] = None, core_messages: Sequence[Message] = (),
                 counters: Optional[dict] = None, started: Optional[float] = None) -> CheckResult:
     """What :func:`usdksl.pipeline.check.check_shot` (``shot`` read, ``name`` reported) returns for
     ``options``, from ``parts`` that cover its checked range: chunk folders (:class:`Chunk`) or Dask
