@@ -127,7 +127,7 @@ def test_regions_are_listed_worst_first_with_their_measure():
     table, regions = synthetic(depths, measures)
     page = Page(html_report([section(table, regions)]))
     ids = [int(row[0]) for row in page.rows if row]
-    assert ids == [2, 4, 3, 1]           # deepest first; of equal depths the penetration first
+    assert ids == [2, 1, 4, 3]           # penetrations first, deepest first; then intersection lengths, longest first
     by_id = {int(row[0]): row for row in page.rows if row}
     assert by_id[2][1:8] == ["/World/A × /World/B", "inter", "5.5", "8.5", "1", "0.7", "penetration"]
     assert by_id[3][7] == "intersection length"
@@ -151,14 +151,14 @@ def test_the_timeline_has_a_bar_per_region_deepest_on_top():
     figure = timeline_figure(regions, table, CLOCK, (0.0, 40.0), "shots/a.usda")
     axes = figure.axes[0]
     labels = [label.get_text() for label in axes.get_yticklabels()]
-    assert [label.split()[0] for label in labels] == ["2", "3", "1"]
+    assert [label.split()[0] for label in labels] == ["2", "1", "3"]   # penetrations, then intersection lengths
     assert axes.get_xlim() == (0.0, 20.0)                          # frames of the checked span
     bars = axes.patches
-    assert [bar.get_x() for bar in bars] == [5.5, 6.0, 5.0]         # first frames, worst first
+    assert [bar.get_x() for bar in bars] == [5.5, 5.0, 6.0]         # first frames, worst first
     assert [bar.get_width() for bar in bars] == [3.0, 3.0, 3.0]
     darkness = [sum(bar.get_facecolor()[:3]) for bar in bars]
-    assert darkness[0] < darkness[1] < darkness[2]                  # deeper is darker
-    assert [bool(bar.get_hatch()) for bar in bars] == [False, True, False]
+    assert darkness[0] < darkness[2] < darkness[1]                  # deeper is darker: 0.7, 0.3, 0.1
+    assert [bool(bar.get_hatch()) for bar in bars] == [False, False, True]
 
 
 def test_the_timeline_shows_the_worst_regions_when_there_are_many():

@@ -112,10 +112,11 @@ class RegionTable:
         return ~unknown
 
     def worst_first(self) -> np.ndarray:
-        """int64[R]: region rows by depth, deepest first (penetrations before intersection lengths of equal
-        value; ties by first time, then row)."""
+        """int64[R]: region rows worst first: penetrations (a surface through a closed mesh) by depth, then
+        the regions measured by intersection length, by length (the two are different lengths: a 1 cm pass
+        into a body outranks a 5 cm crease of cloth through itself); ties by first time, then row."""
         measure_rank = np.where(self.depth_measure == PENETRATION, 0, 1)
-        return np.lexsort((np.arange(self.count), self.first_time, measure_rank, -self.max_depth))
+        return np.lexsort((np.arange(self.count), self.first_time, -self.max_depth, measure_rank))
 
     @classmethod
     def empty(cls, paths: Optional[Sequence[str]], contact_rows: int = 0) -> "RegionTable":

@@ -192,16 +192,15 @@ def summary_line(table: ContactTable, plan, time_range: Optional[tuple], seconds
     first = float(table.time[0])
     faces = f"{table.count} contacting face pair{'s' if table.count != 1 else ''}"
     in_pairs = f"in {pairs} mesh pair{'s' if pairs != 1 else ''}"
+    last = "" if table.last_time is None else f", last at {clock.describe(float(table.last_time.max()))}"
     if regions is None or regions.count == 0:
-        found = f"{faces} {in_pairs}, first at {clock.describe(first)}"
+        found = f"{faces} {in_pairs}, first at {clock.describe(first)}{last}"
     else:
         deepest = int(regions.worst_first()[0])
         found = (f"{regions.count} problem{'s' if regions.count != 1 else ''} {in_pairs} ({faces}), first at "
-                 f"{clock.describe(first)}, worst region {deepest + 1}: "
+                 f"{clock.describe(first)}{last}, worst region {deepest + 1}: "
                  f"{depth_text(regions.depth_measure[deepest], float(regions.max_depth[deepest]))} at frame "
                  f"{console_number(clock.frame(float(regions.max_depth_time[deepest])))}")
-    if table.last_time is not None:
-        found += f", last at {clock.describe(float(table.last_time.max()))}"
     if known is None:
         return f"usdksl: {found}; {checked}"
     new = np.flatnonzero(~np.asarray(known, bool))
