@@ -87,7 +87,7 @@ def test_command_writes_last_contact_columns(samples_dir, tmp_path):
     with open(tmp_path / "fold.contacts.csv", newline="") as handle:
         rows = list(csv.DictReader(handle))
     assert len(rows) == 132 and {(row["prim_a"], row["prim_b"]) for row in rows} == {("/World/Strip", "/World/Strip")}
-    assert list(rows[0])[-3:] == ["last_time", "last_frame", "last_seconds"]
+    assert list(rows[0])[-4:] == ["last_time", "last_frame", "last_seconds", "region"]
     assert all(float(row["last_time"]) >= float(row["time"]) for row in rows)
     # fold.usda starts at 1, 24 time codes and 24 frames a second: frames are the time codes
     assert all(float(row["last_frame"]) == float(row["last_time"]) for row in rows)

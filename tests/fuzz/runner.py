@@ -35,9 +35,10 @@ CASE_SECONDS = 30.0
 PRELOAD = ["numpy", "numpy.ma", "pxr.Usd", "pxr.UsdGeom", "pxr.UsdSkel", "pxr.UsdPhysics", "pxr.UsdShade",
            "usdksl._native", "usdksl.cli.entry", "usdksl.cli.main", "usdksl.pipeline.check",
            "usdksl.reports.override"]
-OUTPUT_SUFFIXES = (".contacts.csv", ".summary.csv", ".usdksl.usda")
+OUTPUT_SUFFIXES = (".contacts.csv", ".summary.csv", ".usdksl.usda", ".regions.csv")
 CONTACTS_HEADER = ["time", "prim_a", "face_a", "prim_b", "face_b", "kind"]
 SUMMARY_HEADER = ["prim_a", "prim_b", "kind", "first_contact_time", "face_pairs"]
+REGIONS_HEADER = ["region", "prim_a", "prim_b", "kind"]
 
 _context = None
 _start_lock = threading.Lock()
@@ -188,10 +189,13 @@ def _output_problems(outcome: Outcome) -> List[str]:
             if not math.isfinite(float(row[0])) or int(row[2]) < 0 or int(row[4]) < 0 or row[5] not in ("self", "inter"):
                 raise ValueError(f"row {row}")
         _parse_csv(expected[1], SUMMARY_HEADER)
+        regions = _parse_csv(expected[3], REGIONS_HEADER)
     except (ValueError, IndexError) as error:
         return issues + [f"unparseable CSV: {error}"]
     if (outcome.exit_code == 1) != bool(rows):
         issues.append(f"exit {outcome.exit_code} with {len(rows)} contact rows")
+    if bool(regions) != bool(rows):
+        issues.append(f"{len(regions)} regions for {len(rows)} contact rows")
     from pxr import Sdf, Tf
 
     try:

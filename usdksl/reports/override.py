@@ -280,7 +280,7 @@ def _usd_dictionary(values: dict) -> dict:
 def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union[str, os.PathLike],
                    segments: Optional[Sequence[tuple]] = None,
                    span: Optional[Tuple[float, float]] = None, provenance: Optional[dict] = None,
-                   regions: Optional[RegionTable] = None) -> OverrideLayer:
+                   regions: Optional[RegionTable] = None, clock: Optional[StageClock] = None) -> OverrideLayer:
     """The override layer for ``shot`` (usdksl.reading.loader.Shot) and its ContactTable.
 
     ``checked_meshes``: indices into shot.meshes that took part in at least one checked pair.
@@ -325,6 +325,8 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
 
     paths = [mesh.path for mesh in shot.meshes]
     targets = [_result_prim(mesh) for mesh in shot.meshes]
+    if regions is not None and clock is None:   # the region arrays' frames: the shot's clock
+        clock = StageClock.from_metadata(shot.metadata)
     instancers: Dict[str, list] = {}
     elements = 0
     reviewed = []
@@ -389,19 +391,14 @@ def override_layer(shot, checked_meshes: Iterable[int], table, layer_path: Union
             else:
                 face_values = [(None, face_regions(table, row_ids, index, mesh.face_count))]
             elements += _author_face_regions(spec, face_values)
-            elements += _author_region_list(spec, [index], regions, _clock_of(shot), paths)
+            elements += _author_region_list(spec, [index], regions, clock, paths)
         reviewed.append(spec)
         _bind_review_material(spec, _material_subsets(shot.stage, mesh.path))
     if reviewed:
         _define_review_material(layer)
     for instancer, indices in sorted(instancers.items()):
-        elements += _author_instancer(layer, shot, instancer, indices, table, targets, regions, paths)
+        elements += _author_instancer(layer, shot, instancer, indices, table, targets, regions, paths, clock)
     return OverrideLayer(layer=layer, array_elements=elements)
-
-
-def _clock_of(shot) -> StageClock:
-    """The shot's clock (its stage metadata), for the frames of the region arrays."""
-    return StageClock.from_metadata(shot.metadata)
 
 
 def _author_face_regions(spec, face_values: Sequence[tuple]) -> int:
@@ -536,7 +533,8 @@ def _instance_count(stage, instancer: str, time: float, fallback: int) -> int:
 
 
 def _author_instancer(layer, shot, instancer: str, indices: Sequence[int], table, targets,
-                      regions: Optional[RegionTable] = None, paths: Sequence[str] = ()) -> int:
+                      regions: Optional[RegionTable] = None, paths: Sequence[str] = (),
+                      clock: Optional[StageClock] = None) -> int:
     """Per-instance first contact times and instancer-level totals (module docstring); with ``regions`` the
     region of each instance's first contact and the instancer's region arrays. Returns the array elements
     authored with regions (the rest is not counted, as before regions)."""
@@ -575,7 +573,7 @@ def _author_instancer(layer, shot, instancer: str, indices: Sequence[int], table
                                          count)
     per_instance = Sdf.AttributeSpec(spec, ATTR_INSTANCE_REGION, Sdf.ValueTypeNames.IntArray, declaresCustom=True)
     per_instance.default = Vt.IntArray.FromNumpy(instance_regions)
-    return count + _author_region_list(spec, list(indices), regions, _clock_of(shot), paths)
+    return count + _author_region_list(spec, list(indices), regions, clock, paths)
 
 
 def _instance_regions(table, row_ids: np.ndarray, indices: Sequence[int], instance_indices: Sequence[int],
