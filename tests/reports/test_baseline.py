@@ -116,7 +116,7 @@ def test_own_baseline_at_a_zero_or_tiny_time_tolerance_is_clean(fold, own, tmp_p
 
 
 @pytest.mark.parametrize("text, words", [
-    ("prim_a,face_a\n/A,1\n", "baseline header lacks column(s) prim_b"),
+    ("prim_a,face_a\n/A,1\n", "line 1: baseline header lacks column(s) prim_b"),
     ("prim_a,face_a,prim_b,face_b\n/A,one,/B,2\n", "line 2: face_a 'one' is not a face index"),
     ("# note\nprim_a,prim_b,time\n/A,/B,soon\n", "line 3: time 'soon' is not a number"),
 ])

@@ -27,7 +27,7 @@ import io
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, List, Optional, Tuple, Union
+from typing import Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -124,6 +124,32 @@ def read_baseline(path: Union[str, os.PathLike], time_tolerance: Optional[float]
     name = str(path)
     if time_tolerance is not None and not time_tolerance >= 0:
         raise UsdkslUsageError(f"--baseline-time-tolerance must be zero or positive, got {time_tolerance!r}")
+    header, table, line_numbers = read_baseline_cells(path, ("prim_a", "prim_b"),
+                                                      "a contacts.csv or an accept list prim_a,face_a,prim_b,face_b[,time]")
+
+    def column(column_name: str) -> Optional[np.ndarray]:
+        if column_name not in header:
+            return None
+        return np.array([value.strip() for value in table[:, header.index(column_name)].tolist()], dtype=object)
+
+    prim_a, prim_b = column("prim_a"), column("prim_b")
+    face_a = _faces(column("face_a"), table.shape[0], "face_a", line_numbers, name)
+    face_b = _faces(column("face_b"), table.shape[0], "face_b", line_numbers, name)
+    time = _times(column("time"), table.shape[0], line_numbers, name)
+    empty = np.flatnonzero((prim_a == "") | (prim_b == ""))
+    if empty.size:
+        raise UsdkslInputError(f"line {line_numbers[empty[0]]}: empty prim path", file=name)
+    prim_a, face_a, prim_b, face_b = _canonical_sides(prim_a, face_a, prim_b, face_b)
+    return Baseline(source=name, prim_a=prim_a, face_a=face_a, prim_b=prim_b, face_b=face_b, time=time,
+                    time_tolerance=time_tolerance)
+
+
+def read_baseline_cells(path: Union[str, os.PathLike], required: Sequence[str],
+                        what: str) -> Tuple[List[str], np.ndarray, List[int]]:
+    """(header, object[rows, columns] cells, the file's line number of each row) of a baseline CSV: ``#`` lines
+    and blank lines skipped. Raises UsdkslInputError naming the file (and line) when it cannot be read, has no
+    header, lacks a ``required`` column (``what`` says which files are meant) or has a short row."""
+    name = str(path)
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
@@ -135,32 +161,17 @@ def read_baseline(path: Union[str, os.PathLike], time_tolerance: Optional[float]
         raise UsdkslInputError("baseline is empty (no header)", file=name)
     rows = list(csv.reader(io.StringIO("\n".join(line for _, line in numbered))))
     header = [column.strip() for column in rows[0]]
-    missing = [column for column in ("prim_a", "prim_b") if column not in header]
+    missing = [column for column in required if column not in header]
     if missing:
-        raise UsdkslInputError(f"baseline header lacks column(s) {', '.join(missing)} (a contacts.csv or an "
-                               f"accept list prim_a,face_a,prim_b,face_b[,time])", file=name)
+        raise UsdkslInputError(f"line {numbered[0][0]}: baseline header lacks column(s) {', '.join(missing)} "
+                               f"({what})", file=name)
     body = rows[1:]
     line_numbers = [number for number, _ in numbered[1:]]
     short = [number for number, row in zip(line_numbers, body) if len(row) < len(header)]
     if short:
         raise UsdkslInputError(f"line {short[0]}: expected {len(header)} columns", file=name)
-    table = np.array([row[:len(header)] for row in body], dtype=object).reshape(len(body), len(header))
-
-    def column(column_name: str) -> Optional[np.ndarray]:
-        if column_name not in header:
-            return None
-        return np.array([value.strip() for value in table[:, header.index(column_name)].tolist()], dtype=object)
-
-    prim_a, prim_b = column("prim_a"), column("prim_b")
-    face_a = _faces(column("face_a"), len(body), "face_a", line_numbers, name)
-    face_b = _faces(column("face_b"), len(body), "face_b", line_numbers, name)
-    time = _times(column("time"), len(body), line_numbers, name)
-    empty = np.flatnonzero((prim_a == "") | (prim_b == ""))
-    if empty.size:
-        raise UsdkslInputError(f"line {line_numbers[empty[0]]}: empty prim path", file=name)
-    prim_a, face_a, prim_b, face_b = _canonical_sides(prim_a, face_a, prim_b, face_b)
-    return Baseline(source=name, prim_a=prim_a, face_a=face_a, prim_b=prim_b, face_b=face_b, time=time,
-                    time_tolerance=time_tolerance)
+    cells = np.array([row[:len(header)] for row in body], dtype=object).reshape(len(body), len(header))
+    return header, cells, line_numbers
 
 
 def empty_baseline(source: str, time_tolerance: Optional[float] = None) -> Baseline:

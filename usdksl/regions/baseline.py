@@ -35,7 +35,6 @@ Matching is a join of entries and regions on their pair of meshes (numpy), never
 from __future__ import annotations
 
 import csv
-import io
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -44,7 +43,7 @@ from typing import List, Optional, Tuple, Union
 import numpy as np
 
 from ..clock import StageClock, console_number
-from ..contacts.baseline import Baseline, BaselineComparison, compare, read_baseline
+from ..contacts.baseline import Baseline, BaselineComparison, compare, read_baseline, read_baseline_cells
 from ..contacts.baseline import baseline_for_shot as contacts_baseline_for_shot
 from ..contacts.csv_file import is_number
 from ..contacts.table import ContactTable
@@ -159,33 +158,15 @@ def read_region_baseline(path: Union[str, os.PathLike],
                          tolerances: RegionTolerances = RegionTolerances()) -> RegionBaseline:
     """Read a region baseline (module docstring). Raises UsdkslInputError naming the file and line."""
     name = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise UsdkslInputError(f"cannot read baseline: {getattr(error, 'strerror', None) or error}",
-                               file=name) from None
-    numbered = [(number, line) for number, line in enumerate(text.splitlines(), start=1)
-                if line.strip() and not line.lstrip().startswith(COMMENT)]
-    if not numbered:
-        raise UsdkslInputError("baseline is empty (no header)", file=name)
-    rows = list(csv.reader(io.StringIO("\n".join(line for _, line in numbered))))
-    header = [column.strip() for column in rows[0]]
-    missing = [column for column in REQUIRED_COLUMNS if column not in header]
-    if missing:
-        raise UsdkslInputError(f"line {numbered[0][0]}: region baseline header lacks column(s) {', '.join(missing)} "
-                               f"(a regions.csv, or an accept list {','.join(REQUIRED_COLUMNS)})", file=name)
-    body = rows[1:]
-    line_numbers = np.array([number for number, _ in numbered[1:]], dtype=np.int64)
-    short = [number for number, row in zip(line_numbers.tolist(), body) if len(row) < len(header)]
-    if short:
-        raise UsdkslInputError(f"line {short[0]}: expected {len(header)} columns", file=name)
-    cells = np.array([row[:len(header)] for row in body], dtype=object).reshape(len(body), len(header))
+    header, cells, numbers = read_baseline_cells(path, REQUIRED_COLUMNS,
+                                                 f"a regions.csv, or an accept list {','.join(REQUIRED_COLUMNS)}")
+    line_numbers = np.array(numbers, dtype=np.int64)
 
     def column(column_name: str) -> Optional[np.ndarray]:
         if column_name not in header:
             return None
         return np.array([value.strip() for value in cells[:, header.index(column_name)].tolist()],
-                        dtype=object).astype(str).reshape(len(body))
+                        dtype=object).astype(str).reshape(cells.shape[0])
 
     prim_a, prim_b = column("prim_a"), column("prim_b")
     empty = np.flatnonzero((prim_a == "") | (prim_b == ""))
@@ -201,12 +182,12 @@ def read_region_baseline(path: Union[str, os.PathLike],
     if negative.size:
         raise UsdkslInputError(f"line {line_numbers[negative[0]]}: max_depth is negative", file=name)
     box = np.stack([_numbers(column(column_name), column_name, line_numbers, name)
-                    for column_name in BOX_MIN_COLUMNS + BOX_MAX_COLUMNS], axis=1).reshape(len(body), 6)
+                    for column_name in BOX_MIN_COLUMNS + BOX_MAX_COLUMNS], axis=1).reshape(cells.shape[0], 6)
     inverted = np.flatnonzero((box[:, :3] > box[:, 3:]).any(axis=1))
     if inverted.size:
         raise UsdkslInputError(f"line {line_numbers[inverted[0]]}: the box has a min above its max", file=name)
     region = _region_ids(column(REGION_ID_COLUMN), line_numbers, name)
-    measure = _depth_measures(column(DEPTH_MEASURE_COLUMN), len(body), line_numbers, name)
+    measure = _depth_measures(column(DEPTH_MEASURE_COLUMN), cells.shape[0], line_numbers, name)
     swap = prim_a > prim_b
     prim_a, prim_b = np.where(swap, prim_b, prim_a).astype(object), np.where(swap, prim_a, prim_b).astype(object)
     return RegionBaseline(source=name, prim_a=prim_a, prim_b=prim_b, first_frame=first_frame, last_frame=last_frame,

@@ -171,13 +171,19 @@ def face_regions(table, row_ids: np.ndarray, mesh_index: int, face_count: int) -
     chosen = [np.flatnonzero(side == mesh_index) for side in (table.mesh_a, table.mesh_b)]
     rows = np.concatenate(chosen)
     faces = np.concatenate([table.face_a[chosen[0]], table.face_b[chosen[1]]]).astype(np.int64)
-    regions = np.full(face_count, NO_REGION_ID, np.int32)
+    return _earliest_region(faces, rows, table, row_ids, face_count)
+
+
+def _earliest_region(keys: np.ndarray, rows: np.ndarray, table, row_ids: np.ndarray, count: int) -> np.ndarray:
+    """int32[count]: for each key (a face, an instance) the region id of its earliest row among ``rows`` (one
+    key per row), of rows at the same time the first in the table's order; NO_REGION_ID for a key with none."""
+    result = np.full(count, NO_REGION_ID, np.int32)
     if rows.size:
-        order = np.lexsort((rows, table.time[rows], faces))
-        faces, rows = faces[order], rows[order]
-        first = np.flatnonzero(np.concatenate([[True], faces[1:] != faces[:-1]]))
-        regions[faces[first]] = np.asarray(row_ids)[rows[first]]
-    return regions
+        order = np.lexsort((rows, table.time[rows], keys))
+        keys, rows = keys[order], rows[order]
+        first = np.flatnonzero(np.concatenate([[True], keys[1:] != keys[:-1]]))
+        result[keys[first]] = np.asarray(row_ids)[rows[first]]
+    return result
 
 
 def segment_row_ids(segments: Sequence[tuple], row_ids: np.ndarray) -> List[np.ndarray]:
@@ -586,13 +592,7 @@ def _instance_regions(table, row_ids: np.ndarray, indices: Sequence[int], instan
     rows = np.concatenate([np.flatnonzero(np.isin(side, indices)) for side in (table.mesh_a, table.mesh_b)])
     instances = np.concatenate([instance_of[table.mesh_a[np.isin(table.mesh_a, indices)]],
                                 instance_of[table.mesh_b[np.isin(table.mesh_b, indices)]]])
-    result = np.full(count, NO_REGION_ID, np.int32)
-    if rows.size:
-        order = np.lexsort((rows, table.time[rows], instances))
-        instances, rows = instances[order], rows[order]
-        first = np.flatnonzero(np.concatenate([[True], instances[1:] != instances[:-1]]))
-        result[instances[first]] = np.asarray(row_ids)[rows[first]]
-    return result
+    return _earliest_region(instances, rows, table, row_ids, count)
 
 
 def _enclosing_instances(stage, prim_path: str):
