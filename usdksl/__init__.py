@@ -9,8 +9,9 @@ user needs are re-exported here. The sub-packages, by topic:
 ``usdksl.regions``     contacts grouped into regions (the problems a person fixes), each with its depth
 ``usdksl.reports``     summary.csv, JSON, JUnit, the override layer and the illustrated page; every file written atomically
 ``usdksl.crosscheck``  static frames intersected with Embree, held against the continuous result
-``usdksl.pipeline``    the whole check of one shot: load, plan, find first contacts, render every report
+``usdksl.pipeline``    the whole check of one shot (a file, or a stage open already): load, plan, find first contacts, render every report
 ``usdksl.scale``       many shots, on one process or a Dask cluster, and farm chunks merged
+``usdksl.validation``  the check as a validator of OpenUSD's validation framework (UsdValidation, usdchecker)
 
 They stand on floors (usdksl/README.md): a module imports only its own floor and the floors below it, which
 tests/test_import_graph.py enforces.
@@ -38,6 +39,8 @@ _EXPORTS = {
     "CheckOptions": "usdksl.pipeline.options",
     "CheckResult": "usdksl.pipeline.result",
     "check_shot": "usdksl.pipeline.check",
+    "check_stage": "usdksl.pipeline.stage",
+    "register_validators": "usdksl.validation.registration",
     "report_for_results": "usdksl.pipeline.report",
     "RegionTable": "usdksl.regions.table",
     "ContactTable": "usdksl.contacts.table",
@@ -78,6 +81,8 @@ if TYPE_CHECKING:   # what the names are, for type checkers and readers
     from .contacts.table import ContactTable  # noqa: F401
     from .errors import UsdkslInputError, UsdkslUsageError  # noqa: F401
     from .pipeline.check import check_shot  # noqa: F401
+    from .pipeline.stage import check_stage  # noqa: F401
+    from .validation.registration import register_validators  # noqa: F401
     from .pipeline.options import CheckOptions  # noqa: F401
     from .pipeline.report import report_for_results  # noqa: F401
     from .regions.table import RegionTable  # noqa: F401

@@ -1,8 +1,10 @@
-"""The installed package's version, for ``--version``, the JSON report and a farm chunk's manifest.
+"""The installed package's version, for ``--version``, the JSON report, the override layer and a farm chunk's manifest.
 
-Looked up on first use: importlib.metadata costs tens of milliseconds at start-up, and a plain
-``usdksl check`` never needs the version. ``from usdksl.version import __version__`` still works
-(PEP 562) but pays for the lookup at import; code on the check's path calls :func:`package_version`.
+The build writes it into ``usdksl/_version.py`` (``[[tool.scikit-build.generate]]`` in pyproject.toml), for
+the wheel and an editable install alike, so reading it costs one tiny import. importlib.metadata would cost
+every check tens of milliseconds of start-up, and a plain ``usdksl check`` must not pay that
+(tests/cli/test_check_imports.py). A source tree that was never built has no ``_version.py`` (git-ignored):
+its version is :data:`UNINSTALLED_VERSION`.
 """
 
 from functools import lru_cache
@@ -13,13 +15,12 @@ UNINSTALLED_VERSION = "0.0.0"
 
 @lru_cache(maxsize=None)
 def package_version() -> str:
-    """The installed distribution's version string (UNINSTALLED_VERSION without one)."""
-    from importlib.metadata import PackageNotFoundError, version
-
+    """The version this package was built as (UNINSTALLED_VERSION in a source tree that was never built)."""
     try:
-        return version("usdksl")
-    except PackageNotFoundError:  # running from a source tree without install
+        from ._version import version
+    except ImportError:   # a source tree on the path, not an installed build: the generated file is not there
         return UNINSTALLED_VERSION
+    return version
 
 
 def __getattr__(name):

@@ -20,6 +20,7 @@ _EXPORTS = {
     "Message": "usdksl.pipeline.messages",
     "OutputTargets": "usdksl.pipeline.files",
     "check_shot": "usdksl.pipeline.check",
+    "check_stage": "usdksl.pipeline.stage",
     "output_targets": "usdksl.pipeline.files",
 }
 
@@ -31,6 +32,7 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 if TYPE_CHECKING:   # what the names are, for type checkers and readers
     from .check import check_shot  # noqa: F401
+    from .stage import check_stage  # noqa: F401
     from .files import OutputTargets, output_targets  # noqa: F401
     from .messages import Message  # noqa: F401
     from .options import CheckOptions  # noqa: F401

@@ -57,7 +57,7 @@ ProgressFactory = Callable[..., Callable[[float, int], None]]
 def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optional[OutputTargets] = None,
                on_message: Optional[Callable[[Message], None]] = None,
                progress: Optional[ProgressFactory] = None, name: Optional[str] = None,
-               baseline: Optional[AnyBaseline] = None) -> CheckResult:
+               baseline: Optional[AnyBaseline] = None, stage=None) -> CheckResult:
     """Check ``shot`` (a USD file) and render its reports; write nothing.
 
     ``baseline`` (usdksl.contacts.baseline): contacts it knows do not count for the exit code; the
@@ -70,13 +70,15 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     receives each plan line and warning as it is known (they are also in ``result.messages``).
     ``progress(start, end, label="")`` makes the progress callback of the core for the checked span (an
     object with an optional ``close()``); with ``last_contact`` a second one follows the backwards run. Raises UsdkslInputError / UsdkslUsageError on bad input.
+    ``stage``: an open Usd.Stage to check instead of opening ``shot`` (the file of its root layer; see
+    usdksl.pipeline.stage.check_stage).
     """
     started = time.monotonic()
     name = name or shot
     targets = targets or OutputTargets(out_dir=Path(shot).resolve().parent)
     messages: List[Message] = []
     say = message_collector(messages, on_message)
-    planned = load_and_plan(shot, options, name, say)
+    planned = load_and_plan(shot, options, name, say, stage=stage)
     report_blowups(planned.segments, planned.plans, name, say, options.strict)
     span = checked_span(options, planned.segments)
     bar = progress(span[0], span[1]) if progress is not None else None
@@ -111,16 +113,17 @@ def _shown(bar) -> bool:
 
 
 def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[..., None],
-                  require_pairs: bool = True) -> PlannedShot:
+                  require_pairs: bool = True, stage=None) -> PlannedShot:
     """Load ``shot`` over ``options.time_range`` (the whole shot when None) and plan what is checked; says
     the loader's warnings, the plan lines and the coverage account. Raises UsdkslInputError on bad input (spline
     motion included), when ``options.time_range`` holds no sample, and when no mesh pair is left to check (except
-    in a time range where nothing moves, or with ``require_pairs`` False: a Dask window, planned whole later)."""
+    in a time range where nothing moves, or with ``require_pairs`` False: a Dask window, planned whole later).
+    ``stage``: the open Usd.Stage of ``shot`` to read instead of opening it."""
     include, excluded = options.patterns()
     predicate = include_predicate(include, excluded) if (include or excluded) else None
     # the one open of the stage and search for its meshes: counted for memory before any motion is read, then loaded
     found = find_mesh_sources(shot, predicate, allow_missing_assets=options.allow_missing_assets,
-                              skin_keys_only=options.skin_keys_only)
+                              skin_keys_only=options.skin_keys_only, stage=stage)
     check_memory(sources_size(found, options.time_range), options.method, memory_limit(options.memory_limit),
                  file=name, threads=options.threads or default_threads())
     segments, gaps = load_segments(found, options.time_range, say, name, options.strict)

@@ -21,6 +21,12 @@ warnings are printed as before.
 
 Clip sets given by ``templateAssetPath`` are not checked: USD itself keeps only the template's paths that
 resolve.
+
+A stage handed over open (:func:`usdksl.pipeline.stage.check_stage`, a DCC's stage) may also have payloads it
+has not loaded (``Usd.Stage.Open(..., Usd.Stage.LoadNone)``, or ``stage.Unload``): what they hold is missing
+from the composed stage as surely as a file that does not resolve, so :func:`unresolved_assets` names each
+too (problem :data:`NOT_LOADED`). A stage usdksl opens itself loads every payload and has none.
+:func:`trapping_clip_warnings` holds back pxr's warnings about value clips while such a stage is read.
 """
 
 from __future__ import annotations
@@ -30,6 +36,8 @@ from dataclasses import dataclass
 from typing import Dict, Iterator, List, Optional, Set, Tuple
 
 from pxr import Ar, Pcp, Sdf, Tf, Usd
+
+from .file_formats import missing_format_note
 
 #: What asked for an asset (:attr:`UnresolvedAsset.kind`).
 REFERENCE = "reference"
@@ -41,6 +49,8 @@ CLIP = "clip"
 DOES_NOT_RESOLVE = "does not resolve"
 #: ... of one it resolves that does not open as a layer (not a USD file, unreadable).
 DOES_NOT_OPEN = "resolves but does not open"
+#: ... of a payload the open stage has not loaded (its prims compose without what it holds).
+NOT_LOADED = "is not loaded on the stage (stage.Load loads it)"
 
 #: Composition errors that leave a prim without (part of) what an asset holds.
 _ARC_ERRORS = (Pcp.ErrorType_InvalidAssetPath, Pcp.ErrorType_UnresolvedPrimPath)
@@ -74,7 +84,8 @@ class UnresolvedAsset:
         wrong."""
         what = "value clip manifest" if self.manifest else "value clip" if self.kind == CLIP else self.kind
         target = f"<{self.target}>" if self.target else ""
-        return f"{what} @{self.asset_path}@{target} {self.problem}"
+        return f"{what} @{self.asset_path}@{target} {self.problem}" + (
+            missing_format_note(self.asset_path) if self.problem == DOES_NOT_OPEN else "")
 
 
 #: The option that checks what composes anyway, named by :func:`refusal`.
@@ -103,13 +114,32 @@ def summary(assets: List[UnresolvedAsset]) -> str:
 
 def unresolved_assets(stage: Usd.Stage) -> List[UnresolvedAsset]:
     """Every asset of ``stage`` that does not compose (module docstring): references and payloads by prim
-    path, then sublayers, then value clips. Empty when everything resolves."""
+    path, then sublayers, then value clips, then payloads the stage has not loaded. Empty when everything
+    resolves and is loaded."""
     with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
         errors = stage.GetCompositionErrors()
         found = _arc_assets(stage, [error for error in errors if error.errorType in _ARC_ERRORS])
         found += _sublayer_assets(stage, [error for error in errors if error.errorType in _SUBLAYER_ERRORS])
         found += _clip_assets(stage)
+    found += unloaded_payloads(stage)
     return list(dict.fromkeys(found))
+
+
+def unloaded_payloads(stage: Usd.Stage) -> List[UnresolvedAsset]:
+    """One UnresolvedAsset (problem :data:`NOT_LOADED`) per payload authored on a prim whose payloads
+    ``stage`` has not loaded, by prim path; a payload without an asset path (one inside the same layer
+    stack) is named by the prim it targets."""
+    found = []
+    for path in sorted(str(loadable) for loadable in stage.FindLoadable()):
+        prim = stage.GetPrimAtPath(path)
+        if not prim or prim.IsLoaded():
+            continue
+        payloads = [(item.assetPath, str(item.primPath) if not item.primPath.isEmpty else "", spec.layer.identifier)
+                    for spec in prim.GetPrimStack() for item in spec.payloadList.GetAddedOrExplicitItems()]
+        for asset_path, target, layer in dict.fromkeys(payloads) or [("", "", "")]:
+            found.append(UnresolvedAsset(kind=PAYLOAD, asset_path=asset_path, requester=path, layer=layer,
+                                         problem=NOT_LOADED, target=target))
+    return found
 
 
 def _covered_error_texts(stage: Usd.Stage) -> List[str]:
@@ -128,16 +158,37 @@ def open_stage_trapping_asset_warnings(file: str) -> Usd.Stage:
     with trap_type() as trap:
         stage = Usd.Stage.Open(file, Usd.Stage.LoadAll)
         if stage is not None:
-            texts = _covered_error_texts(stage)
-            with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
-                clips = _clip_assets(stage)
-            for path in dict.fromkeys(asset.requester for asset in clips):
-                _read_clip_values(stage.GetPrimAtPath(path))   # pxr warns about a clip on its first read
-            texts += [f"clip layer @{asset.asset_path}@" for asset in clips]
-            if texts:
-                trap.EraseMatching(lambda diagnostic: isinstance(diagnostic, Tf.Warning)
-                                   and any(text in diagnostic.commentary for text in texts))
+            _erase_asset_warnings(trap, _covered_error_texts(stage) + _read_missing_clips(stage))
     return stage
+
+
+def trapping_clip_warnings(stage: Usd.Stage) -> Usd.Stage:
+    """``stage`` (open already, its composition warnings printed when it was composed) with the value clips
+    :func:`unresolved_assets` reports read once, so that pxr's warning about each, which it prints on a clip's
+    first read, is held back here instead of being printed while usdksl reads the stage. Without
+    ``Tf.DiagnosticTrap`` nothing is read and pxr warns as before."""
+    trap_type = getattr(Tf, "DiagnosticTrap", None)
+    if trap_type is not None:
+        with trap_type() as trap:
+            _erase_asset_warnings(trap, _read_missing_clips(stage))
+    return stage
+
+
+def _read_missing_clips(stage: Usd.Stage) -> List[str]:
+    """Read the values of every prim whose value clips do not resolve (pxr warns about a clip on its first
+    read) and return the text of those warnings."""
+    with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
+        clips = _clip_assets(stage)
+    for path in dict.fromkeys(asset.requester for asset in clips):
+        _read_clip_values(stage.GetPrimAtPath(path))
+    return [f"clip layer @{asset.asset_path}@" for asset in clips]
+
+
+def _erase_asset_warnings(trap, texts: List[str]) -> None:
+    """Drop the warnings ``trap`` holds whose text names one of ``texts``; every other diagnostic is printed."""
+    if texts:
+        trap.EraseMatching(lambda diagnostic: isinstance(diagnostic, Tf.Warning)
+                           and any(text in diagnostic.commentary for text in texts))
 
 
 def _read_clip_values(prim: Usd.Prim) -> None:

@@ -24,6 +24,9 @@ handled by numpy. The points of one mesh go straight into one preallocated
 :func:`load_shot` opens the file and loads it. A check does it in two steps on one open stage:
 :func:`find_mesh_sources` opens it and finds the meshes and their sample times (what the memory estimate
 counts), :func:`load_sources` reads their points (once, or once per piece of a shot cut at gaps).
+:func:`find_mesh_sources` also takes a stage open already (a DCC's, usdksl.pipeline.stage): then nothing is
+opened, and what that stage composes (its session layer, variant selections, population mask and loaded
+payloads) is what is read.
 
 The input file is opened read-only and never saved.
 """
@@ -43,6 +46,7 @@ from pxr import Tf, Usd, UsdGeom
 from ..errors import UsdkslEmptyMeshError, UsdkslGapError, UsdkslInputError, UsdkslUsageError
 from ..warning_kinds import EMPTY_MESH, NOT_A_SURFACE, UNMESHED_SOLID, UNRESOLVED_ASSET
 from ..unmasked import distinct_sorted
+from .file_formats import require_file_format
 from .segments import mesh_stretches
 # What the rest of the package reads from the loader; one mesh is read in .meshes.
 from .meshes import (DEFORMING, RIGID, STATIC, NOT_SURFACES, MeshData, Shot, UncheckedGeometry, _MatrixCache, rendered,
@@ -121,6 +125,7 @@ def open_stage(path: Union[str, os.PathLike]) -> Usd.Stage:
         raise UsdkslInputError("not a file", file=file)
     elif not os.access(file, os.R_OK):
         raise UsdkslInputError("file is not readable", file=file)
+    require_file_format(file)   # an Alembic shot on a USD build without usdAbc: one line saying how to convert
     from .composition import open_stage_trapping_asset_warnings   # the loader names unresolved assets itself
 
     try:
@@ -272,13 +277,16 @@ class MeshSources:
 
 
 def find_mesh_sources(path: Union[str, os.PathLike], include: IncludeFilter = None,
-                      allow_missing_assets: bool = False, skin_keys_only: bool = False) -> MeshSources:
+                      allow_missing_assets: bool = False, skin_keys_only: bool = False,
+                      stage: Optional[Usd.Stage] = None) -> MeshSources:
     """Open ``path`` and find the meshes :func:`load_shot` would load (``include``, ``allow_missing_assets``,
-    ``skin_keys_only`` as there) with their sample times, reading no points. Raises
-    :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad input."""
+    ``skin_keys_only`` as there) with their sample times, reading no points. ``stage``: read this open stage
+    instead of opening ``path`` (which then names it in messages, and is the file the reports name: the
+    file of its root layer). Raises :class:`usdksl.errors.UsdkslInputError` with a one-line message on bad
+    input."""
     file = os.fspath(path)
     with _errors_name_file(file):
-        return _find_mesh_sources(file, include, allow_missing_assets, skin_keys_only)
+        return _find_mesh_sources(file, include, allow_missing_assets, skin_keys_only, stage)
 
 
 def load_sources(found: MeshSources, time_range: Optional[Tuple[float, float]] = None,
@@ -322,10 +330,11 @@ def _errors_name_file(file: str) -> Iterator[None]:
 
 
 def _find_mesh_sources(file: str, include: IncludeFilter, allow_missing_assets: bool = False,
-                       skin_keys_only: bool = False) -> MeshSources:
+                       skin_keys_only: bool = False, stage: Optional[Usd.Stage] = None) -> MeshSources:
     from . import composition
 
-    stage = open_stage(file)
+    # a stage handed over open was composed (and warned about) by its owner: only its clips warn on first read
+    stage = open_stage(file) if stage is None else composition.trapping_clip_warnings(stage)
     missing = composition.unresolved_assets(stage)   # composed without them, a contact with them goes unseen
     if missing and not allow_missing_assets:
         raise UsdkslInputError(composition.refusal(missing), file=file, prim=missing[0].requester)

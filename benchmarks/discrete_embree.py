@@ -1,0 +1,88 @@
+"""``usdksl check`` against what a QA script does today: a per-frame discrete check with Embree, end to end.
+
+    python benchmarks/discrete_embree.py benchmarks/caches/newton_*.usdc ../shared/data/newton/newton_viewerusd_cloth_twist.usd
+
+For each cache, one run each, one after the other, both end to end in a process of their own (interpreter
+start, imports, reading the stage; benchmarks/harness.py ``run`` measures wall and CPU from outside):
+
+- ``check``: ``usdksl check CACHE`` (continuous: every contact between the samples too, reports written);
+- ``discrete``: this script with ``--frames CACHE``: the stage read with usdksl's loader, the mesh pairs
+  ``usdksl check`` plans, and at every sample the triangle pairs that intersect, found with Embree
+  (usdksl.crosscheck: every edge cast as a ray segment against the frame, hits confirmed in double
+  precision). It finds what intersects *at* the samples and misses what passes between them.
+
+The printed ratio is check / discrete (wall, the same run); the target of continuous checking is at most
+0.5. Results go to benchmarks/results/discrete_embree.md. The machine is a shared 2-core box: ratios
+measured in one run are the result, not absolute seconds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+
+from harness import Build, run
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RESULTS = os.path.join(HERE, "results", "discrete_embree.md")
+#: check / discrete (wall) that continuous checking is held to.
+TARGET_RATIO = 0.5
+
+
+def discrete_frames(shot_path: str) -> None:
+    """The per-frame discrete check of one cache; prints the face pairs found intersecting at some sample."""
+    import usdksl
+    from usdksl.crosscheck.shot import intersecting_face_pairs
+    from usdksl.reading.scope import ScopeOptions, plan_shot
+    from usdksl.unmasked import distinct_sorted
+
+    shot = usdksl.load_shot(shot_path)
+    plan = plan_shot(shot, ScopeOptions())
+    _, keys, _ = intersecting_face_pairs(shot.meshes, shot.times, plan.pairs)
+    print(f"{len(distinct_sorted(keys))} face pairs intersect at some of {len(shot.times)} samples")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("shots", nargs="*")
+    parser.add_argument("--frames", metavar="CACHE", help="run the discrete check of CACHE in this process")
+    parser.add_argument("--output", default=RESULTS)
+    args = parser.parse_args(argv)
+    if args.frames:
+        discrete_frames(args.frames)
+        return 0
+    lines = ["# Continuous check against a per-frame discrete Embree check", "",
+             f"`python benchmarks/discrete_embree.py {' '.join(args.shots)}`, one run each, end to end, "
+             "2-core shared machine; wall seconds (CPU seconds).", "",
+             "| cache | check | discrete (Embree, every sample) | check / discrete (wall) | check found | "
+             "discrete found |", "|---|---|---|---|---|---|"]
+    worst = 0.0
+    for shot in args.shots:
+        with tempfile.TemporaryDirectory() as out:
+            check = Build.current().run("check", shot, "--out", out, "-q")
+        discrete = run([sys.executable, os.path.abspath(__file__), "--frames", shot])
+        if check.exit_code not in (0, 1) or discrete.exit_code != 0:
+            raise RuntimeError(f"{shot}: check exit {check.exit_code}, discrete exit {discrete.exit_code}: "
+                               f"{(check.stderr + discrete.stderr).strip()[-300:]}")
+        ratio = check.wall_s / discrete.wall_s
+        worst = max(worst, ratio)
+        with tempfile.TemporaryDirectory() as out:
+            summary = Build.current().run("check", shot, "--out", out).stderr.strip().splitlines()[-1]
+        found = summary.split(";")[0].replace("usdksl: ", "")
+        lines.append(f"| {os.path.basename(shot)} | {check.wall_s:.2f} ({check.cpu_s:.2f}) | "
+                     f"{discrete.wall_s:.2f} ({discrete.cpu_s:.2f}) | {ratio:.2f} | {found} | "
+                     f"{discrete.stdout.strip()} |")
+        print(lines[-1], flush=True)
+    lines += ["", f"Largest check / discrete: {worst:.2f} (target: at most {TARGET_RATIO:g})."]
+    text = "\n".join(lines) + "\n"
+    print(text)
+    os.makedirs(os.path.dirname(args.output), exist_ok=True)
+    with open(args.output, "w") as handle:
+        handle.write(text)
+    return 0 if worst <= TARGET_RATIO else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
