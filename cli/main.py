@@ -44,7 +44,7 @@ class LazyCommands(click.Group):
 def _show_version(ctx, _param, value):
     if not value or ctx.resilient_parsing:
         return
-    from usdksl.version import package_version   # importlib.metadata only when asked
+    from usdksl.version import package_version   # the version file the build wrote
 
     click.echo(f"usdksl, version {package_version()}")
     ctx.exit()

@@ -17,8 +17,8 @@ import pytest
 REPO_ROOT = Path(__file__).resolve().parent.parent
 ROOT_PACKAGE = "usdksl"
 SCRIPT_FOLDERS = [REPO_ROOT / "benchmarks"]
-#: Modules that are not .py files in the tree (the compiled core).
-EXTENSION_MODULES = {"usdksl._native"}
+#: Modules that are not .py files in the tree: the compiled core, the version file the build writes.
+EXTENSION_MODULES = {"usdksl._native", "usdksl._version"}
 WHEEL_PACKAGES_SECTION = "[tool.scikit-build.wheel.packages]"
 WHEEL_PACKAGE_ENTRY = re.compile(r'^\s*"?([\w/.]+)"?\s*=\s*"([^"]+)"\s*$')
 FLOOR_ROW = re.compile(r"^\|\s*(\d+)\s*\|(.*)\|(.*)\|(.*)\|\s*$")

@@ -56,7 +56,7 @@ __all__ = ["__version__"] + sorted(name for name in _EXPORTS if not name.startsw
 
 
 def __getattr__(name):
-    if name == "__version__":   # looked up on first use (usdksl.version): importlib.metadata is slow to import
+    if name == "__version__":   # the version file the build wrote (usdksl.version), read on first use
         from .version import package_version
 
         return package_version()

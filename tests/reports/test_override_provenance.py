@@ -1,4 +1,4 @@
-"""The override layer's customLayerData says what produced it: the settings and the shot's hash."""
+"""The override layer's customLayerData says what produced it: the usdksl version, the settings and the shot's hash."""
 
 import hashlib
 import json
@@ -32,7 +32,8 @@ def test_the_layer_names_settings_and_shot_hash(tmp_path):
     assert result.exit_code == 1, result.output
     layer = Sdf.Layer.FindOrOpen(str(tmp_path / "out" / "shot.usdksl.usda"))
     data = layer.customLayerData[PROVENANCE_KEY]
-    assert "version" not in data   # its lookup would cost every check start-up time
+    from usdksl.version import package_version
+    assert data["version"] == package_version() != ""   # the version the build recorded
     assert data["shotSha256"] == hashlib.sha256(shot.read_bytes()).hexdigest()
     settings = data["settings"]
     assert settings["method"] == "ksl" and settings["self"] is True

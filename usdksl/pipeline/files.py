@@ -135,7 +135,7 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
                            segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
                            else None, span=span, regions=regions, clock=clock,
-                           provenance=provenance_data(shot_sha256, options.settings()))
+                           provenance=provenance_data(shot_sha256, options.settings(), package_version()))
     files[targets.override_layer(shot, layer.binary)] = layer.data()
     files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
     if options.time_range is not None:

@@ -33,7 +33,7 @@ Per checked mesh it authors:
     with scene materials on. Renders of the ``full`` purpose keep the scene's materials.
 
 Its ``customLayerData`` holds one dictionary, ``usdksl``, saying what produced it (docs/contracts.md,
-Outputs): ``string shotSha256`` (SHA-256 of the shot's root layer
+Outputs): ``string version`` (the usdksl that wrote it), ``string shotSha256`` (SHA-256 of the shot's root layer
 file, as the farm manifest names it) and ``dictionary settings`` (the check's settings, as the JSON report
 has them: a setting that is None is left out, lists of strings are ``string[]``, of numbers ``double[]``).
 
@@ -256,11 +256,10 @@ def build_override_layer(shot, checked_meshes: Iterable[int], table, layer_path:
                           provenance).layer.ExportToString()
 
 
-def provenance_data(shot_sha256: str, settings: dict) -> dict:
-    """The ``usdksl`` customLayerData dictionary (module docstring) from the check's settings
-    (CheckOptions.settings()): only values a USD dictionary can hold. The usdksl version is not in it: looking it
-    up (importlib.metadata) costs every check tens of milliseconds of start-up."""
-    return {"shotSha256": str(shot_sha256), "settings": _usd_dictionary(settings)}
+def provenance_data(shot_sha256: str, settings: dict, version: str) -> dict:
+    """The ``usdksl`` customLayerData dictionary (module docstring): the usdksl ``version`` that wrote the layer,
+    the shot's hash and the check's settings (CheckOptions.settings()), only values a USD dictionary can hold."""
+    return {"version": str(version), "shotSha256": str(shot_sha256), "settings": _usd_dictionary(settings)}
 
 
 def _usd_dictionary(values: dict) -> dict:

@@ -34,6 +34,16 @@ from .windows import check_window, merge_windows, shot_windows, windows_per_shot
 TASK_RETRIES = 2
 #: Seconds to wait for a --scheduler address to answer.
 CONNECT_TIMEOUT_SECONDS = 30
+#: The one line (exit 2) of --jobs and --scheduler where Dask is not installed: the base install leaves it out.
+INSTALL_HINT = "--jobs and --scheduler need Dask: pip install 'usdksl[dask]'"
+
+
+def require_dask() -> None:
+    """Raise UsdkslUsageError (exit 2) when dask.distributed cannot be imported."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise UsdkslUsageError(INSTALL_HINT) from None
 
 
 @contextmanager
@@ -41,10 +51,9 @@ def dask_client(workers: Optional[int] = None, scheduler: Optional[str] = None):
     """A distributed Client: on a new LocalCluster of ``workers`` single-threaded processes
     (usdksl.scale.local_cluster), or on the scheduler at ``scheduler`` (tcp://host:port). The cluster is
     closed on exit."""
-    try:
-        from distributed import Client
-    except ImportError:   # pragma: no cover  (a dependency of the package)
-        raise UsdkslUsageError("--jobs and --scheduler need dask[distributed]") from None
+    require_dask()
+    from distributed import Client
+
     if scheduler:
         try:
             client = Client(scheduler, timeout=CONNECT_TIMEOUT_SECONDS)
@@ -77,6 +86,7 @@ def run_on_dask(jobs: Sequence[ShotJob], options: CheckOptions, workers: Optiona
     ``progress`` advances a piece per shot checked whole and per time window."""
     if not jobs:
         return
+    require_dask()
     from distributed import as_completed
 
     with dask_client(workers, scheduler) as client:
