@@ -1,0 +1,74 @@
+"""A cache resampled denser along the same motion: what sub-frame samples (motion blur) do to a check.
+
+    python benchmarks/densify.py benchmarks/caches/newton_tablecloth_f150.usdc --factor 10
+    python benchmarks/densify.py CACHE --factor 10 --compare      # also time usdksl check on both, one run each
+
+Writes ``<cache stem>_x<factor>.usdc`` beside the cache: the stage flattened, and every attribute with two or
+more time samples given ``factor - 1`` more between each pair, the values USD itself interpolates there
+(linear for points and translations), so the motion is the same and only the sampling is denser. With
+``--compare`` ``usdksl check`` runs end to end on the original and on the dense copy (benchmarks/harness.py
+``run``; one run each) and the ratio dense / original (wall) is printed with both answers' face pair
+counts. The target of continuous checking is a ratio of at most 1.3: the same motion should cost about the
+same however finely it is sampled.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+
+from harness import Build
+
+#: dense / original check time (wall) that continuous checking is held to.
+TARGET_RATIO = 1.3
+
+
+def densify(cache: str, factor: int, target: str) -> str:
+    """Write ``cache`` with ``factor - 1`` in-between samples per interval of every animated attribute."""
+    import numpy as np
+    from pxr import Usd
+
+    flat = Usd.Stage.Open(cache).Flatten()
+    stage = Usd.Stage.Open(flat)
+    for prim in stage.Traverse():
+        for attribute in prim.GetAttributes():
+            times = attribute.GetTimeSamples()
+            if len(times) < 2:
+                continue
+            fractions = np.arange(1, factor) / factor
+            between = [(t0 + (t1 - t0) * fractions).tolist() for t0, t1 in zip(times[:-1], times[1:])]
+            values = [(time, attribute.Get(time)) for chunk in between for time in chunk]
+            for time, value in values:
+                attribute.Set(value, time)
+    stage.GetRootLayer().Export(target)
+    return target
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("cache")
+    parser.add_argument("--factor", type=int, default=10)
+    parser.add_argument("--compare", action="store_true")
+    args = parser.parse_args(argv)
+    stem, _ = os.path.splitext(args.cache)
+    target = densify(args.cache, args.factor, f"{stem}_x{args.factor}.usdc")
+    print(f"wrote {target}")
+    if not args.compare:
+        return 0
+    measured = {}
+    for name, shot in (("original", args.cache), ("dense", target)):
+        with tempfile.TemporaryDirectory() as out:
+            run = Build.current().run("check", shot, "--out", out)
+        if run.exit_code not in (0, 1):
+            raise RuntimeError(f"usdksl check {shot} exited {run.exit_code}: {run.stderr.strip()[-300:]}")
+        measured[name] = run
+        print(f"{name}: {run.wall_s:.2f} s wall ({run.cpu_s:.2f} s CPU): {run.stderr.strip().splitlines()[-1]}")
+    ratio = measured["dense"].wall_s / measured["original"].wall_s
+    print(f"dense / original (wall): {ratio:.2f} (target: at most {TARGET_RATIO:g})")
+    return 0 if ratio <= TARGET_RATIO else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
