@@ -21,6 +21,8 @@ import tempfile
 
 from harness import Build
 
+HERE = os.path.dirname(os.path.abspath(__file__))
+RESULTS = os.path.join(HERE, "results", "densify.md")
 #: dense / original check time (wall) that continuous checking is held to.
 TARGET_RATIO = 1.3
 
@@ -51,6 +53,7 @@ def main(argv=None) -> int:
     parser.add_argument("cache")
     parser.add_argument("--factor", type=int, default=10)
     parser.add_argument("--compare", action="store_true")
+    parser.add_argument("--output", default=RESULTS, help="where --compare writes its table (markdown)")
     args = parser.parse_args(argv)
     stem, _ = os.path.splitext(args.cache)
     target = densify(args.cache, args.factor, f"{stem}_x{args.factor}.usdc")
@@ -58,15 +61,24 @@ def main(argv=None) -> int:
     if not args.compare:
         return 0
     measured = {}
+    lines = ["# The same motion sampled denser", "",
+             f"`python benchmarks/densify.py {args.cache} --factor {args.factor} --compare`, one run each, end to end, "
+             "2-core shared machine.", "", "| shot | wall (s) | CPU (s) | answer |", "|---|---|---|---|"]
     for name, shot in (("original", args.cache), ("dense", target)):
         with tempfile.TemporaryDirectory() as out:
             run = Build.current().run("check", shot, "--out", out)
         if run.exit_code not in (0, 1):
             raise RuntimeError(f"usdksl check {shot} exited {run.exit_code}: {run.stderr.strip()[-300:]}")
         measured[name] = run
-        print(f"{name}: {run.wall_s:.2f} s wall ({run.cpu_s:.2f} s CPU): {run.stderr.strip().splitlines()[-1]}")
+        lines.append(f"| {name} ({os.path.basename(shot)}) | {run.wall_s:.2f} | {run.cpu_s:.2f} | "
+                     f"{run.stderr.strip().splitlines()[-1].split(';')[0]} |")
+        print(lines[-1], flush=True)
     ratio = measured["dense"].wall_s / measured["original"].wall_s
-    print(f"dense / original (wall): {ratio:.2f} (target: at most {TARGET_RATIO:g})")
+    lines += ["", f"dense / original (wall): {ratio:.2f} (target: at most {TARGET_RATIO:g})."]
+    text = "\n".join(lines) + "\n"
+    print(text)
+    with open(args.output, "w") as handle:
+        handle.write(text)
     return 0 if ratio <= TARGET_RATIO else 1
 
 
