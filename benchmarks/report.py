@@ -57,7 +57,10 @@ RESULT_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.
                 ("thickness.md", "Thickness above 0: what it costs and what it measures (benchmarks/thickness.py)"),
                 ("scale.md", "10k to 1M faces (benchmarks/scale.py)"),
                 ("coverage_cost.md", "What the trust checks cost (benchmarks/coverage_cost.py)"),
-                ("batch_scaling.md", "Batches and long shots on Dask (benchmarks/batch_scaling.py)"))
+                ("batch_scaling.md", "Batches and long shots on Dask (benchmarks/batch_scaling.py)"),
+                ("findings_cost.md", "What regions, depth and the report cost (benchmarks/findings_cost.py)"),
+                ("discrete_embree.md", "Continuous against a per-frame discrete Embree check (benchmarks/discrete_embree.py)"),
+                ("densify.md", "The same motion sampled ten times denser (benchmarks/densify.py)"))
 #: Headings of the page's own sections.
 ACCURACY_HEADING = "What accuracy costs in time: KSL against every method (benchmarks/run.py)"
 PER_SHOT_HEADING = "Accuracy and time per shot (benchmarks/run.py)"
