@@ -45,6 +45,11 @@ def test_regions_csv_json_and_contacts_name_the_same_regions(samples_dir, tmp_pa
     document = json.loads((tmp_path / "shot.json").read_text())
     assert [region["region"] for region in document["regions"]] == [int(row["region"]) for row in regions]
     assert [contact["region"] for contact in document["contacts"]] == [int(row["region"]) for row in contacts]
+    for region in document["regions"]:       # the faces of each side, as the contacts name them
+        rows = [row for row in contacts if int(row["region"]) == region["region"]]
+        assert region["face_ids_a"] == sorted({int(row["face_a"]) for row in rows})
+        assert region["face_ids_b"] == sorted({int(row["face_b"]) for row in rows})
+        assert (region["faces_a"], region["faces_b"]) == (len(region["face_ids_a"]), len(region["face_ids_b"]))
     assert f"{len(regions)} problem" in result.stderr.splitlines()[-1]
 
 

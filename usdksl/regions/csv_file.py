@@ -25,26 +25,29 @@ REGION_COLUMNS = ("region", "prim_a", "prim_b", "kind", "first_time", "last_time
 #: The columns that follow them.
 REGION_DETAIL_COLUMNS = ("depth_measure", "max_depth_frame", "max_intersection_length", "min_x", "min_y", "min_z",
                          "max_x", "max_y", "max_z", "faces_a", "faces_b")
+#: The JSON report's lists of each region's faces on side a and side b (regions.csv has their counts).
+FACE_LIST_KEYS = ("face_ids_a", "face_ids_b")
 
 
-def _faces_per_side(regions: RegionTable, table) -> tuple:
-    """(int64[R], int64[R]): how many distinct authored faces each region holds on side a and side b."""
-    counts = []
-    for faces in (table.face_a, table.face_b):
-        stride = int(faces.max(initial=0)) + 1
-        keys = distinct_sorted(regions.row_region.astype(np.int64) * stride + faces.astype(np.int64))
-        counts.append(np.bincount(keys // stride, minlength=regions.count).astype(np.int64))
-    return counts[0], counts[1]
+def region_faces(regions: RegionTable, faces: np.ndarray) -> List[np.ndarray]:
+    """Per region, the sorted distinct authored faces of one side (``faces``: the table's face_a or face_b
+    column, one per contact row)."""
+    stride = int(faces.max(initial=0)) + 1
+    keys = distinct_sorted(regions.row_region.astype(np.int64) * stride + faces.astype(np.int64))
+    bounds = np.searchsorted(keys // stride, np.arange(1, regions.count))
+    return np.split(keys % stride, bounds)
 
 
-def region_records(regions: RegionTable, table, clock: StageClock, known: Optional[np.ndarray] = None) -> List[dict]:
-    """One dict per region (the regions.csv columns, in id order); ``known`` bool per contact row."""
+def region_records(regions: RegionTable, table, clock: StageClock, known: Optional[np.ndarray] = None,
+                   with_face_lists: bool = False) -> List[dict]:
+    """One dict per region (the regions.csv columns, in id order); ``known`` bool per contact row. With
+    ``with_face_lists`` (the JSON report) also the faces of each side (FACE_LIST_KEYS)."""
     if regions.count == 0:
         return []
     names = np.array(regions.paths if regions.paths is not None else
                      [str(index) for index in range(int(max(regions.mesh_a.max(), regions.mesh_b.max())) + 1)],
                      dtype=object)
-    faces_a, faces_b = _faces_per_side(regions, table)
+    faces_a, faces_b = region_faces(regions, table.face_a), region_faces(regions, table.face_b)
     status = None if known is None else regions.known_regions(known)
     columns = {
         "region": regions.ids.tolist(), "prim_a": names[regions.mesh_a].tolist(),
@@ -61,10 +64,13 @@ def region_records(regions: RegionTable, table, clock: StageClock, known: Option
         "min_x": regions.box_min[:, 0].tolist(), "min_y": regions.box_min[:, 1].tolist(),
         "min_z": regions.box_min[:, 2].tolist(), "max_x": regions.box_max[:, 0].tolist(),
         "max_y": regions.box_max[:, 1].tolist(), "max_z": regions.box_max[:, 2].tolist(),
-        "faces_a": faces_a.tolist(), "faces_b": faces_b.tolist(),
+        "faces_a": [len(faces) for faces in faces_a], "faces_b": [len(faces) for faces in faces_b],
     }
     if status is not None:
         columns[STATUS_COLUMN] = np.where(status, KNOWN, NEW).tolist()
+    if with_face_lists:
+        columns[FACE_LIST_KEYS[0]] = [faces.tolist() for faces in faces_a]
+        columns[FACE_LIST_KEYS[1]] = [faces.tolist() for faces in faces_b]
     keys = list(columns)
     return [dict(zip(keys, values)) for values in zip(*(columns[key] for key in keys))]
 
