@@ -79,17 +79,18 @@ def test_missing_payload_sublayer_and_clip_are_input_errors(tmp_path, cloth_and_
                                                             requester, what):
     shot, _ = cloth_and_body(arc)
     rename(tmp_path / renamed, "renamed.usda")
-    requester = requester or str(shot)   # a sublayer is asked for by a layer: here the shot's root layer
+    # a sublayer is asked for by a layer: here the shot's root layer, which the line names once
+    asker = f"{requester}: " if requester else ""
     out = tmp_path / "out"
     result = run_cli("check", shot, "--out", out)
     assert result.exit_code == 2, result.stderr
     assert result.stderr.strip().splitlines() == [
-        f"usdksl: error: {shot}: {requester}: {what} does not resolve; {REFUSED}"]
+        f"usdksl: error: {shot}: {asker}{what} does not resolve; {REFUSED}"]
     assert written(out) == []
     assert_no_pxr_warning(capfd)
     allowed = run_cli("check", shot, "--out", out, "--allow-missing-assets")
     assert allowed.exit_code == 0, allowed.stderr
-    assert f"usdksl: warning: {shot}: {requester}: {what} does not resolve: {NOT_CHECKED}" in allowed.stderr
+    assert f"usdksl: warning: {shot}: {asker}{what} does not resolve: {NOT_CHECKED}" in allowed.stderr
 
 
 @pytest.mark.parametrize("arc", BODY_ARCS)

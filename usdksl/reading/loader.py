@@ -336,13 +336,16 @@ def _find_mesh_sources(file: str, include: IncludeFilter, allow_missing_assets: 
     # a stage handed over open was composed (and warned about) by its owner: only its clips warn on first read
     stage = open_stage(file) if stage is None else composition.trapping_clip_warnings(stage)
     missing = composition.unresolved_assets(stage)   # composed without them, a contact with them goes unseen
+    root = stage.GetRootLayer().identifier   # a sublayer of it is asked for by the file every line names already
     if missing and not allow_missing_assets:
-        raise UsdkslInputError(composition.refusal(missing), file=file, prim=missing[0].requester)
+        requester = missing[0].requester
+        raise UsdkslInputError(composition.refusal(missing), file=file, prim=None if requester == root else requester)
     metadata = stage_metadata(stage)
     unchecked: List[UncheckedGeometry] = [
         UncheckedGeometry(prim=asset.requester, reason=composition.not_checked(asset), kind=UNRESOLVED_ASSET)
         for asset in missing]
-    warnings: List[str] = [f"{file}: {item.prim}: {item.reason}" for item in unchecked]
+    warnings: List[str] = [f"{file}: {item.reason}" if item.prim == root else f"{file}: {item.prim}: {item.reason}"
+                           for item in unchecked]
     try:
         prims, sources = _mesh_sources(stage, include, file, warnings, unchecked, skin_keys_only)
     except UsdkslInputError as error:
