@@ -28,6 +28,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ..contacts.csv_file import read_contacts_csv
+from ..reading.positions import points_at
 from ..contacts.orientation import canonical_swap, swap_sides
 from ..contacts.table import ContactTable, path_rank
 from ..errors import UsdkslUsageError
@@ -97,22 +98,6 @@ def parse_frames(spec: Union[None, str, Sequence[float]], shot_times: np.ndarray
             raise UsdkslUsageError(f"--frames: time {float(outside[0])!r} is outside the shot's samples "
                                    f"{low!r}..{high!r}")
     return np.unique(times)
-
-
-def points_at(mesh, time: float) -> np.ndarray:
-    """World-space points of ``mesh`` at ``time``: linear between samples, held before the first and after
-    the last (the flightplan semantics of the continuous check). float64[N, 3]."""
-    times = mesh.times
-    if len(times) == 1 or time <= times[0]:
-        return mesh.points[0]
-    if time >= times[-1]:
-        return mesh.points[-1]
-    upper = int(np.searchsorted(times, time, side="right"))
-    lower = upper - 1
-    if times[lower] == time:
-        return mesh.points[lower]
-    weight = (time - times[lower]) / (times[upper] - times[lower])
-    return (1.0 - weight) * mesh.points[lower] + weight * mesh.points[upper]
 
 
 # --------------------------------------------------------------------------- mesh pairs

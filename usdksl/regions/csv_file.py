@@ -44,9 +44,7 @@ def region_records(regions: RegionTable, table, clock: StageClock, known: Option
     ``with_face_lists`` (the JSON report) also the faces of each side (FACE_LIST_KEYS)."""
     if regions.count == 0:
         return []
-    names = np.array(regions.paths if regions.paths is not None else
-                     [str(index) for index in range(int(max(regions.mesh_a.max(), regions.mesh_b.max())) + 1)],
-                     dtype=object)
+    names = np.array(table.mesh_names(), dtype=object)
     faces_a, faces_b = region_faces(regions, table.face_a), region_faces(regions, table.face_b)
     status = None if known is None else regions.known_regions(known)
     columns = {

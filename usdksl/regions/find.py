@@ -13,6 +13,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from ..contacts.table import ContactTable
+from ..reading.positions import vertex_points_at
 from ..unmasked import distinct_sorted
 from .closed import closed_meshes
 from .depth import region_depths
@@ -68,12 +69,13 @@ def fold(meshes: Sequence, table: ContactTable, row_region: np.ndarray, region_c
     deep = (depth_sample >= 0) & (max_depth > 0)
     max_depth_time = np.where(deep, samples.time[np.maximum(depth_sample, 0)], first_time)
 
-    box_min, box_max = contact_boxes(meshes, table, row_region, count, thickness_pad=0.0)
-    if samples.count:
-        at = np.maximum(depth_sample, 0)
-        sample_box_known = deep & np.all(np.isfinite(samples.box_min[at]), axis=1)
-        box_min = np.where(sample_box_known[:, None], samples.box_min[at], box_min)
-        box_max = np.where(sample_box_known[:, None], samples.box_max[at], box_max)
+    at = np.maximum(depth_sample, 0)
+    sample_box_known = (deep & np.all(np.isfinite(samples.box_min[at]), axis=1) if samples.count
+                        else np.zeros(count, bool))
+    # the other regions are placed where their contacts began: only their rows are looked at
+    box_min, box_max = contact_boxes(meshes, table, np.flatnonzero(~sample_box_known[row_region]), row_region, count)
+    box_min[sample_box_known] = samples.box_min[at[sample_box_known]]
+    box_max[sample_box_known] = samples.box_max[at[sample_box_known]]
     return RegionTable(paths=table.paths and list(table.paths), mesh_a=mesh_a.astype(np.int32),
                        mesh_b=mesh_b.astype(np.int32), first_time=first_time, last_time=last_time,
                        face_pairs=face_pairs, depth_measure=measure, max_depth=max_depth,
@@ -100,21 +102,23 @@ def _argmax_per_group(value: np.ndarray, group: np.ndarray, count: int) -> Tuple
     return best, where
 
 
-def contact_boxes(meshes: Sequence, table: ContactTable, row_region: np.ndarray, count: int,
-                  thickness_pad: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
-    """(box_min, box_max) float64[count, 3]: per region, where its contacts began: the union over its rows of
-    the overlap of the two faces' boxes at the row's first contact (the union of both boxes where they do not
-    overlap, as for a contact within a thickness)."""
-    low_a, high_a = _face_boxes(meshes, table.mesh_a, table.face_a, table.time)
-    low_b, high_b = _face_boxes(meshes, table.mesh_b, table.face_b, table.time)
+def contact_boxes(meshes: Sequence, table: ContactTable, rows: np.ndarray, row_region: np.ndarray,
+                  count: int) -> Tuple[np.ndarray, np.ndarray]:
+    """(box_min, box_max) float64[count, 3]: per region, where its contacts among ``rows`` (row indices of
+    ``table``) began: the union over them of the overlap of the two faces' boxes at the row's first contact
+    (the union of both boxes where they do not overlap, as for a contact within a thickness); +inf/-inf for a
+    region with none of ``rows``."""
+    time = table.time[rows]
+    low_a, high_a = _face_boxes(meshes, table.mesh_a[rows], table.face_a[rows], time)
+    low_b, high_b = _face_boxes(meshes, table.mesh_b[rows], table.face_b[rows], time)
     low, high = np.maximum(low_a, low_b), np.minimum(high_a, high_b)
     apart = np.any(low > high, axis=1)
-    low = np.where(apart[:, None], np.minimum(low_a, low_b), low) - thickness_pad
-    high = np.where(apart[:, None], np.maximum(high_a, high_b), high) + thickness_pad
+    low = np.where(apart[:, None], np.minimum(low_a, low_b), low)
+    high = np.where(apart[:, None], np.maximum(high_a, high_b), high)
     box_min = np.full((count, 3), np.inf)
     box_max = np.full((count, 3), -np.inf)
-    np.minimum.at(box_min, row_region, low)
-    np.maximum.at(box_max, row_region, high)
+    np.minimum.at(box_min, row_region[rows], low)
+    np.maximum.at(box_max, row_region[rows], high)
     return box_min, box_max
 
 
@@ -136,7 +140,7 @@ def _face_boxes(meshes: Sequence, mesh: np.ndarray, face: np.ndarray, time: np.n
         triangles = order[starts + within]
         vertices = data.triangles[triangles].reshape(-1)        # three per triangle
         owner = np.repeat(row_of, 3)
-        points = _points_at(data, vertices, time[rows][owner])
+        points = vertex_points_at(data, vertices, time[rows][owner])
         box_low = np.full((rows.size, 3), np.inf)
         box_high = np.full((rows.size, 3), -np.inf)
         np.minimum.at(box_low, owner, points)
@@ -149,18 +153,6 @@ def _face_triangles(data) -> Tuple[np.ndarray, np.ndarray]:
     """(first index into the face-sorted triangle order, triangle count) per authored face."""
     counts = np.bincount(data.triangle_face, minlength=int(data.face_count)).astype(np.int64)
     return np.cumsum(counts) - counts, counts
-
-
-def _points_at(data, vertices: np.ndarray, times: np.ndarray) -> np.ndarray:
-    """float64[V, 3]: ``vertices`` of one mesh, each at its own time."""
-    sample_times = data.times
-    if sample_times.size == 1:
-        return data.points[0][vertices]
-    clamped = np.clip(times, sample_times[0], sample_times[-1])
-    upper = np.clip(np.searchsorted(sample_times, clamped, side="right"), 1, sample_times.size - 1)
-    lower = upper - 1
-    weight = ((clamped - sample_times[lower]) / (sample_times[upper] - sample_times[lower]))[:, None]
-    return (1.0 - weight) * data.points[lower, vertices] + weight * data.points[upper, vertices]
 
 
 def concatenate_regions(pieces: Sequence[RegionTable], table: ContactTable, kept: np.ndarray) -> RegionTable:

@@ -93,14 +93,10 @@ class RegionTable:
     def is_self(self) -> np.ndarray:
         return self.mesh_a == self.mesh_b
 
-    def rows_of(self, region: int, table) -> np.ndarray:
-        """int64[]: the contact rows of ``table`` in region row ``region``."""
-        return np.flatnonzero(self.row_region == region)
-
     def faces(self, region: int, table) -> tuple:
-        """(faces of mesh_a, faces of mesh_b) of region row ``region``: sorted unique authored faces (for a
-        self region both sides are faces of the one mesh)."""
-        rows = self.rows_of(region, table)
+        """(faces of mesh_a, faces of mesh_b) of region row ``region`` (its contact rows in ``table``): sorted
+        unique authored faces (for a self region both sides are faces of the one mesh)."""
+        rows = np.flatnonzero(self.row_region == region)
         return distinct_sorted(table.face_a[rows]), distinct_sorted(table.face_b[rows])
 
     def known_regions(self, known: np.ndarray) -> np.ndarray:

@@ -152,8 +152,7 @@ def region_lines(regions: Optional[RegionTable], table: ContactTable, clock: Sta
     """Console lines (``usdksl check -v``) for up to ``limit`` regions, deepest first, then how many more."""
     if regions is None or regions.count == 0:
         return []
-    names = regions.paths if regions.paths is not None else [str(i) for i in range(
-        int(max(regions.mesh_a.max(), regions.mesh_b.max())) + 1)]
+    names = table.mesh_names()
     lines = []
     for row in regions.worst_first()[:limit].tolist():
         a, b = int(regions.mesh_a[row]), int(regions.mesh_b[row])

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..contacts.table import ContactTable
 from ..errors import UsdkslUsageError
+from ..reading.positions import points_at
 from ..regions.table import RegionTable
 
 #: The line a user sees when PyVista or VTK is missing.
@@ -105,19 +106,6 @@ def require_pyvista():
     except ImportError:
         raise UsdkslUsageError(INSTALL_HINT) from None
     return pyvista
-
-
-def points_at(mesh, time: float) -> np.ndarray:
-    """float64[N, 3]: the world-space points of ``mesh`` at ``time``, linear between its samples and held
-    before the first and after the last (how the check moves a vertex)."""
-    times = np.asarray(mesh.times, dtype=np.float64)
-    points = np.asarray(mesh.points, dtype=np.float64)
-    if times.size == 1:
-        return points[0]
-    clamped = min(max(float(time), float(times[0])), float(times[-1]))
-    upper = int(np.clip(np.searchsorted(times, clamped, side="right"), 1, times.size - 1))
-    weight = (clamped - times[upper - 1]) / (times[upper] - times[upper - 1])
-    return (1.0 - weight) * points[upper - 1] + weight * points[upper]
 
 
 def triangle_classes(mesh, faces_a: np.ndarray, faces_b: np.ndarray, side_a: bool, side_b: bool) -> np.ndarray:

@@ -1,0 +1,38 @@
+"""Where a mesh's vertices are at a time: linear between its samples, held before the first and after the
+last (docs/contracts.md, Motion), the way the continuous check moves them.
+
+:func:`points_at` gives every vertex at one time (the cross-check's frames, a region's picture);
+:func:`vertex_points_at` gives chosen vertices each at its own time (where a contact row's faces were at its
+first contact). Both take the loader's MeshData or anything with ``times`` and ``points``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def points_at(mesh, time: float) -> np.ndarray:
+    """float64[N, 3]: the world-space points of ``mesh`` at ``time`` (a sample's own points at a sample time)."""
+    times = mesh.times
+    if len(times) == 1 or time <= times[0]:
+        return mesh.points[0]
+    if time >= times[-1]:
+        return mesh.points[-1]
+    upper = int(np.searchsorted(times, time, side="right"))
+    lower = upper - 1
+    if times[lower] == time:
+        return mesh.points[lower]
+    weight = (time - times[lower]) / (times[upper] - times[lower])
+    return (1.0 - weight) * mesh.points[lower] + weight * mesh.points[upper]
+
+
+def vertex_points_at(mesh, vertices: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """float64[V, 3]: vertex ``vertices[i]`` of ``mesh`` at ``times[i]``."""
+    sample_times = mesh.times
+    if sample_times.size == 1:
+        return mesh.points[0][vertices]
+    clamped = np.clip(times, sample_times[0], sample_times[-1])
+    upper = np.clip(np.searchsorted(sample_times, clamped, side="right"), 1, sample_times.size - 1)
+    lower = upper - 1
+    weight = ((clamped - sample_times[lower]) / (sample_times[upper] - sample_times[lower]))[:, None]
+    return (1.0 - weight) * mesh.points[lower, vertices] + weight * mesh.points[upper, vertices]
