@@ -57,7 +57,8 @@ ProgressFactory = Callable[..., Callable[[float, int], None]]
 def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optional[OutputTargets] = None,
                on_message: Optional[Callable[[Message], None]] = None,
                progress: Optional[ProgressFactory] = None, name: Optional[str] = None,
-               baseline: Optional[AnyBaseline] = None, stage=None) -> CheckResult:
+               baseline: Optional[AnyBaseline] = None, stage=None,
+               root_layer_text: Optional[str] = None) -> CheckResult:
     """Check ``shot`` (a USD file) and render its reports; write nothing.
 
     ``baseline`` (usdksl.contacts.baseline): contacts it knows do not count for the exit code; the
@@ -71,7 +72,8 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     ``progress(start, end, label="")`` makes the progress callback of the core for the checked span (an
     object with an optional ``close()``); with ``last_contact`` a second one follows the backwards run. Raises UsdkslInputError / UsdkslUsageError on bad input.
     ``stage``: an open Usd.Stage to check instead of opening ``shot`` (the file of its root layer; see
-    usdksl.pipeline.stage.check_stage).
+    usdksl.pipeline.stage.check_stage); ``root_layer_text``: for a stage whose root layer has no file, its
+    exported text (``shot`` is then only a name; see render_files).
     """
     started = time.monotonic()
     name = name or shot
@@ -101,7 +103,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             if shown is not None and hasattr(shown, "close"):
                 shown.close()
     return conclude(shot, name, options, targets, planned, tables, span, counters, messages, say, baseline,
-                    started)
+                    started, root_layer_text)
 
 
 def _shown(bar) -> bool:
@@ -172,7 +174,8 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
 
 def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets, planned: PlannedShot,
              tables: Sequence[ContactTable], span: TimeRange, counters: Dict[str, int], messages: List[Message],
-             say: Callable[[str, str], None], baseline: Optional[AnyBaseline], started: float) -> CheckResult:
+             say: Callable[[str, str], None], baseline: Optional[AnyBaseline], started: float,
+             root_layer_text: Optional[str] = None) -> CheckResult:
     """The result of a check from the contacts of each segment (``tables``): held against ``baseline``,
     cross-checked when asked, every report rendered. Says what a finished check says."""
     plan = planned.plan
@@ -204,7 +207,8 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
     findings = [{"level": message.level, "kind": message.kind, "text": message.text} for message in messages
                 if message.level in (WARNING, ERROR) or message.kind is not None]
     files, stdout = render_files(shot, name, options, targets, planned.segments, plan, tables, table, clock,
-                                 exit_code, span, crosscheck_text, comparison, planned.coverage, findings, regions)
+                                 exit_code, span, crosscheck_text, comparison, planned.coverage, findings, regions,
+                                 root_layer_text)
     pictures = {}
     if targets.report_path is not None:
         from .report import region_pictures_of   # PyVista and VTK: only for a report

@@ -26,7 +26,7 @@ from ..regions.table import RegionTable
 from ..reports.formats import json_report, summary_csv
 from ..reports.output import check_writable_directory, resolve_output_path
 from ..reports.override import override_layer, override_layer_name, provenance_data, shot_stem
-from ..reports.shot_hash import file_sha256
+from ..reports.shot_hash import file_sha256, text_sha256
 from ..version import package_version
 from .coverage import Coverage
 from .options import CheckOptions, TimeRange
@@ -111,15 +111,17 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
                  tables: Sequence[ContactTable], table: ContactTable, clock: StageClock, exit_code: int,
                  span: TimeRange, crosscheck_text: Optional[str] = None,
                  comparison: Optional[BaselineComparison] = None, coverage: Optional[Coverage] = None,
-                 findings: Optional[list] = None,
-                 regions: Optional[RegionTable] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
+                 findings: Optional[list] = None, regions: Optional[RegionTable] = None,
+                 root_layer_text: Optional[str] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
     """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
     stdout or None), in write order.
 
     ``segments``: [(range, loaded Shot)] as :func:`usdksl.pipeline.loading.load_segments` gives them,
     ``tables`` the contacts of each, ``table`` all of them as one (:func:`concatenate_pieces`), ``clock``
     the shot's (its stage metadata). A run over a time range (a farm chunk) also writes its manifest
-    (usdksl.reports.manifest)."""
+    (usdksl.reports.manifest). ``root_layer_text``: the exported text of a root layer that lives in memory
+    only (usdksl.pipeline.stage): the shot hash is that text's, and there is no override layer, which would
+    have no file to sublayer."""
     files: Dict[Path, FileData] = {}
     known = None if comparison is None else comparison.known
     files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known,
@@ -131,13 +133,17 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
         files[targets.crosscheck_csv(shot)] = crosscheck_text
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
     # one read of the root layer per check: the override layer and a farm chunk's manifest both name it
-    shot_sha256 = file_sha256(root_layer_file(shot))
-    layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
-                           segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
-                           else None, span=span, regions=regions, clock=clock,
-                           provenance=provenance_data(shot_sha256, options.settings(), package_version()))
-    files[targets.override_layer(shot, layer.binary)] = layer.data()
-    files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
+    shot_sha256 = file_sha256(root_layer_file(shot)) if root_layer_text is None else text_sha256(root_layer_text)
+    if root_layer_text is None:
+        layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
+                               segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
+                               else None, span=span, regions=regions, clock=clock,
+                               provenance=provenance_data(shot_sha256, options.settings(), package_version()))
+        files[targets.override_layer(shot, layer.binary)] = layer.data()
+        files[targets.override_layer(shot, not layer.binary)] = None   # a layer of the other format is stale
+    else:   # a root layer in memory: no file to sublayer, and none of an earlier check left beside the reports
+        for binary in (False, True):
+            files[targets.override_layer(shot, binary)] = None
     if options.time_range is not None:
         from ..reports.manifest import manifest_text
 

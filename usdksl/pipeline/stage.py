@@ -15,16 +15,13 @@ text, and there is no override layer, which would have no file to sublayer (a me
 from __future__ import annotations
 
 import os
-import tempfile
-from dataclasses import replace
 from pathlib import Path
 from typing import Callable, List, Optional, Tuple
 
 from pxr import Usd
 
-from ..errors import UsdkslInputError, UsdkslUsageError
+from ..errors import UsdkslUsageError
 from ..regions.baseline import AnyBaseline
-from ..reports.override import shot_stem
 from .check import ProgressFactory, check_shot
 from .files import OutputTargets, root_layer_file
 from .messages import INFO, WARNING, Message
@@ -33,8 +30,6 @@ from .result import CheckResult
 
 #: Name of a stage whose in-memory root layer has no display name either.
 UNNAMED_STAGE = "stage"
-#: Extension of the copy of an in-memory root layer that is hashed (its exported text is usda).
-EXPORTED_SUFFIX = ".usda"
 
 # Messages said before the check's own (level, text).
 NO_OVERRIDE_LAYER = ("the stage's root layer is in memory ({layer}): no override layer, which would sublayer "
@@ -96,34 +91,15 @@ def _stage_notes(stage: Usd.Stage) -> List[Tuple[str, str]]:
 def _check_in_memory(stage: Usd.Stage, options: CheckOptions, targets: Optional[OutputTargets], name: str,
                      on_message: Optional[Callable[[Message], None]], progress: Optional[ProgressFactory],
                      baseline: Optional[AnyBaseline], notes: List[Tuple[str, str]]) -> CheckResult:
-    """:func:`check_stage` of a stage whose root layer has no file. The check reads ``stage``; its root layer's
-    exported text goes into a temporary file only so that the reports' shot hash is that text's, and the name
-    of that file is replaced by ``name`` wherever a message or an error would show it."""
+    """:func:`check_stage` of a stage whose root layer has no file: the check reads ``stage`` and names it
+    ``name``; the reports' shot hash is its root layer's exported text's, and there is no override layer."""
     root = stage.GetRootLayer()
     targets = targets or OutputTargets(out_dir=Path.cwd())
     notes.append((WARNING, NO_OVERRIDE_LAYER.format(layer=root.identifier, folder=targets.out_dir)))
     _say(notes, on_message)
-    with tempfile.TemporaryDirectory(prefix="usdksl-stage-") as folder:
-        copy = os.path.join(folder, (shot_stem(name) or UNNAMED_STAGE) + EXPORTED_SUFFIX)
-        with open(copy, "w", encoding="utf-8") as handle:
-            handle.write(root.ExportToString())
-
-        def renamed(message: Message) -> Message:
-            return replace(message, text=message.text.replace(copy, name))
-
-        def forward(message: Message) -> None:
-            if on_message is not None:
-                on_message(renamed(message))
-
-        try:
-            result = check_shot(copy, options, targets, forward, progress, name, baseline, stage=stage)
-        except UsdkslInputError as error:
-            file = name if error.file in (None, copy) else error.file
-            raise type(error)(error.message.replace(copy, name), file=file, prim=error.prim,
-                              time=error.time) from None
-    for binary in (False, True):   # no override layer, and none of an earlier check left beside the reports
-        result.files[targets.override_layer(copy, binary)] = None
-    result.messages[:] = _messages(notes) + [renamed(message) for message in result.messages]
+    result = check_shot(name, options, targets, on_message, progress, name, baseline, stage=stage,
+                        root_layer_text=root.ExportToString())
+    result.messages[:0] = _messages(notes)
     return result
 
 

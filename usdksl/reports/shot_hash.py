@@ -23,4 +23,9 @@ def file_sha256(path: Union[str, Path]) -> str:
     return digest.hexdigest()
 
 
-__all__ = ["file_sha256"]
+def text_sha256(text: str) -> str:
+    """Hex SHA-256 of ``text`` as UTF-8 (the exported text of a root layer that has no file)."""
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+__all__ = ["file_sha256", "text_sha256"]
