@@ -19,10 +19,12 @@ import click
 
 from usdksl.ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from usdksl.checking.collision import METHODS
+from usdksl.checking.memory_windows import MIN_STEPS_PER_WINDOW
 from usdksl.regions.baseline import baseline_for_shot
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.exit_codes import INPUT_ERROR
 from usdksl.pipeline.check import check_shot
+from usdksl.pipeline.memory_budget import DEFAULT_STEPS_PER_WINDOW_PER_THREAD
 from usdksl.pipeline.files import output_targets
 from usdksl.pipeline.messages import NORMAL, QUIET, VERBOSE, WARNING, Message
 from usdksl.pipeline.options import CheckOptions
@@ -121,12 +123,17 @@ def _echo(line: str) -> None:
                    "any count.")
 @click.option("--memory-limit", default=None, metavar="SIZE",
               help="Memory a shot's check may use (8G, 512M, bytes; 'off': no check). Default: the "
-                   "environment variable USDKSL_MEMORY_LIMIT, else what the machine has available. A "
-                   "shot estimated to need more is refused (exit 2) before it is loaded.")
+                   "environment variable USDKSL_MEMORY_LIMIT, else what the machine has available. A long "
+                   "shot is handed to the core in shorter time windows to fit; one that does not fit even so "
+                   "is refused (exit 2) before it is loaded.")
+@click.option("--window", type=click.IntRange(min=MIN_STEPS_PER_WINDOW), default=None, metavar="STEPS",
+              help=f"Sample steps of the time windows the core holds at once (default: "
+                   f"{DEFAULT_STEPS_PER_WINDOW_PER_THREAD} per thread, shorter "
+                   "when memory asks); results are identical for any value.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
           baseline_time_tolerance, plot_path, report_path, json_path, junit_path, strict, allow_missing_assets, skin_keys_only,
-          verbosity, jobs, scheduler, timeout, threads, memory_limit):
+          verbosity, jobs, scheduler, timeout, threads, memory_limit, window):
     """Find the first contacts in each SHOT and write them to CSV and to a USD override layer.
 
     Quoted globs ('shots/*.usd') are expanded; a folder stands for the USD files in it (not in its
@@ -146,7 +153,7 @@ def check(shots, out, method, tolerance, thickness, self_check, inter_check, tim
                                exclude=tuple(exclude), include_guides=include_guides,
                                include_invisible=include_invisible, rigid=rigid, crosscheck=crosscheck,
                                last_contact=last_contact or plot_path is not None, strict=strict,
-                               threads=threads, memory_limit=memory_limit,
+                               threads=threads, memory_limit=memory_limit, window=window,
                                allow_missing_assets=allow_missing_assets, skin_keys_only=skin_keys_only)
     except UsdkslUsageError as error:
         _fail(shots, error.one_line(), junit_path, error.exit_code)

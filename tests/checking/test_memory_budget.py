@@ -10,8 +10,9 @@ import pytest
 from click.testing import CliRunner
 
 from usdksl.pipeline.memory_budget import (
-    MEMORY_LIMIT_VARIABLE, ShotSize, _cgroup_room, _meminfo_available, check_memory, estimated_bytes,
-    memory_limit, parse_memory_size, part_bounds, scan_shot)
+    DEFAULT_STEPS_PER_WINDOW_PER_THREAD, MEMORY_LIMIT_VARIABLE, ShotSize, _cgroup_room, _meminfo_available,
+    estimated_bytes, memory_limit, parse_memory_size, part_bounds, plan_memory, scan_shot)
+from usdksl.checking.memory_windows import MIN_STEPS_PER_WINDOW
 from usdksl.cli.main import main
 from usdksl.errors import UsdkslUsageError
 from usdksl.reading.loader import load_shot
@@ -26,13 +27,13 @@ MEASURE = """
 import json, resource, sys
 from usdksl import _native
 from usdksl.pipeline import CheckOptions, check_shot
-from usdksl.pipeline.memory_budget import estimated_bytes, scan_shot
+from usdksl.pipeline.memory_budget import plan_memory, scan_shot
 def status(field):
     with open("/proc/self/status") as lines:
         return next(int(line.split()[1]) * 1024 for line in lines if line.startswith(field))
 path, method, threads = sys.argv[1], sys.argv[2], int(sys.argv[3])
 size = scan_shot(path)
-estimate = estimated_bytes(size, method, threads)
+estimate = plan_memory(size, method, None, threads=threads).estimate
 del size
 before = status("VmRSS:")
 check_shot(path, CheckOptions(method=method, memory_limit="off", threads=threads))
@@ -84,41 +85,84 @@ def test_the_estimate_grows_with_samples_and_triangles():
     assert estimated_bytes(ShotSize(meshes=1, vertex_samples=1000, triangles=4000)) > small
 
 
+def _smallest_window_need(shot, threads=1):
+    return estimated_bytes(scan_shot(str(shot)), "ksl", threads, MIN_STEPS_PER_WINDOW)
+
+
 def test_refusal_is_one_line_with_need_room_and_advice(shots, tmp_path):
     out = tmp_path / "out"
-    # one thread: the trees fit, the samples do not, so time chunks are the advice
+    # one thread, below what even the shortest memory window needs
+    limit = _smallest_window_need(shots["large"]) - 2 ** 20
     result = CliRunner().invoke(main, ["check", str(shots["large"]), "--out", str(out), "--threads", "1",
-                                       "--memory-limit", "60M"])
+                                       "--memory-limit", str(limit)])
     assert result.exit_code == 2, result.output
     lines = result.stderr.splitlines()
     assert len(lines) == 1, lines
     line = lines[0]
     assert line.startswith(f"usdksl: error: {shots['large']}: needs about ")
-    assert "MiB of memory" in line and "but 60.0 MiB is available" in line
+    assert "MiB of memory" in line and f"but {limit / 2 ** 20:.1f} MiB is available" in line
     assert "--time-range" in line and "usdksl merge" in line and "--prims/--exclude" in line
     assert not out.exists()
+
+
+def test_a_shot_that_does_not_fit_whole_is_checked_in_shorter_windows_with_the_same_files(shots, tmp_path):
+    size = scan_shot(str(shots["large"]))
+    default = estimated_bytes(size, "ksl", 1, DEFAULT_STEPS_PER_WINDOW_PER_THREAD)
+    shortest = estimated_bytes(size, "ksl", 1, MIN_STEPS_PER_WINDOW)
+    assert shortest < default, "the shot is long enough for windows to matter"
+    limit = (shortest + default) // 2
+    plan = plan_memory(size, "ksl", limit, threads=1)
+    assert plan.shortened and MIN_STEPS_PER_WINDOW <= plan.steps_per_window < DEFAULT_STEPS_PER_WINDOW_PER_THREAD
+    assert plan.estimate <= limit
+    fitted = CliRunner().invoke(main, ["check", str(shots["large"]), "--out", str(tmp_path / "fitted"), "--threads",
+                                       "1", "--memory-limit", str(limit), "-v"])
+    whole = CliRunner().invoke(main, ["check", str(shots["large"]), "--out", str(tmp_path / "whole"), "--threads",
+                                      "1", "--memory-limit", "off", "--window", "100000"])
+    assert fitted.exit_code == whole.exit_code == 1, (fitted.stderr, whole.stderr)
+    assert f"windows of {plan.steps_per_window} sample steps" in fitted.stderr
+    for name in ("tablecloth_4000_5.contacts.csv", "tablecloth_4000_5.regions.csv",
+                 "tablecloth_4000_5.summary.csv"):
+        assert (tmp_path / "fitted" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
+
+
+def test_memory_windows_bound_what_the_core_holds_not_what_the_loader_holds():
+    short = ShotSize(meshes=1, vertex_samples=10_000 * 100, triangles=20_000, animated_vertices=10_000,
+                     animated_vertex_samples=10_000 * 100, most_samples=100, span=(1.0, 100.0))
+    long = ShotSize(meshes=1, vertex_samples=10_000 * 1000, triangles=20_000, animated_vertices=10_000,
+                    animated_vertex_samples=10_000 * 1000, most_samples=1000, span=(1.0, 1000.0))
+    whole_growth = estimated_bytes(long) - estimated_bytes(short)
+    window_growth = estimated_bytes(long, steps_per_window=32) - estimated_bytes(short, steps_per_window=32)
+    assert 0 < window_growth < whole_growth / 5, "ten times the frames add only the loader's points"
+    # a still mesh counts its one sample whatever the window
+    still = ShotSize(meshes=2, vertex_samples=10_000 * 100 + 500, triangles=20_000, animated_vertices=10_000,
+                     animated_vertex_samples=10_000 * 100, most_samples=100)
+    assert estimated_bytes(still, steps_per_window=32) > estimated_bytes(short, steps_per_window=32)
 
 
 def test_the_advice_is_fewer_meshes_when_time_chunks_cannot_help():
     size = ShotSize(meshes=3, vertex_samples=10_000, triangles=100_000, span=(1.0, 100.0))
     with pytest.raises(UsdkslUsageError) as refused:
-        check_memory(size, "ksl", limit=estimated_bytes(ShotSize(triangles=50_000), "ksl"), file="shot.usd")
+        plan_memory(size, "ksl", estimated_bytes(ShotSize(triangles=50_000), "ksl"), file="shot.usd")
     assert "--prims/--exclude" in str(refused.value) and "--time-range" not in str(refused.value)
 
 
 def test_the_suggested_chunks_each_fit(tmp_path):
-    size = ShotSize(meshes=1, vertex_samples=10_000_000, triangles=10_000, span=(1.0, 101.0))
-    limit = estimated_bytes(size) // 3
+    # a long shot: the loader's points of the whole range do not fit, one window of the core does
+    size = ShotSize(meshes=1, vertex_samples=10_000_000, triangles=10_000, span=(1.0, 1000.0),
+                    animated_vertices=10_000, animated_vertex_samples=10_000_000, most_samples=1000)
+    limit = estimated_bytes(size, steps_per_window=MIN_STEPS_PER_WINDOW) // 3
     with pytest.raises(UsdkslUsageError) as refused:
-        check_memory(size, "ksl", limit=limit)
+        plan_memory(size, "ksl", limit)
     chunks = int(str(refused.value).split("in about ")[1].split(" parts")[0])
-    part = ShotSize(meshes=1, vertex_samples=size.vertex_samples // chunks, triangles=size.triangles)
-    assert estimated_bytes(part) <= limit
-    assert chunks <= 5, "no more chunks than needed, give or take a margin"
+    samples = -(-size.most_samples // chunks)
+    part = ShotSize(meshes=1, vertex_samples=10_000 * samples, triangles=size.triangles, animated_vertices=10_000,
+                    animated_vertex_samples=10_000 * samples, most_samples=samples)
+    assert estimated_bytes(part, steps_per_window=MIN_STEPS_PER_WINDOW) <= limit
+    assert chunks <= 12, "no more chunks than needed, give or take a margin"
 
 
 def test_environment_variable_and_off(shots, tmp_path, monkeypatch):
-    monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, "1M")
+    monkeypatch.setenv(MEMORY_LIMIT_VARIABLE, "1M")   # below even the fixed part: refused
     refused = CliRunner().invoke(main, ["check", str(shots["small"]), "--out", str(tmp_path / "a")])
     assert refused.exit_code == 2 and "but 1.0 MiB is available" in refused.stderr
     allowed = CliRunner().invoke(main, ["check", str(shots["small"]), "--out", str(tmp_path / "b"),
@@ -162,9 +206,9 @@ def test_more_threads_need_more_and_the_advice_says_one_thread_fits():
     one, two = estimated_bytes(size, "ksl", 1), estimated_bytes(size, "ksl", 2)
     assert two > one
     with pytest.raises(UsdkslUsageError) as refused:
-        check_memory(size, "ksl", limit=(one + two) // 2, threads=2)
+        plan_memory(size, "ksl", (one + two) // 2, threads=2)
     assert "--threads 1" in str(refused.value)
-    assert check_memory(size, "ksl", limit=(one + two) // 2, threads=1) == one
+    assert plan_memory(size, "ksl", (one + two) // 2, threads=1).estimate == one
 
 
 def test_the_scan_leaves_out_a_mesh_it_cannot_read(tmp_path):
@@ -179,19 +223,21 @@ def test_the_scan_leaves_out_a_mesh_it_cannot_read(tmp_path):
 
 def test_the_suggested_parts_are_cut_at_shared_samples_and_merge(tmp_path):
     # a 60 fps cache: equal parts of 0..150 would be cut between samples (21.4286), which merge refuses
-    size = ShotSize(meshes=1, vertex_samples=10_000_000, triangles=10_000, span=(0.0, 150.0),
-                    shared_samples=np.arange(0.0, 151.0))
+    size = ShotSize(meshes=1, vertex_samples=100_000 * 151, triangles=10_000, span=(0.0, 150.0),
+                    shared_samples=np.arange(0.0, 151.0), animated_vertices=100_000,
+                    animated_vertex_samples=100_000 * 151, most_samples=151)
     assert part_bounds(size.span, 7, size.shared_samples) == [0.0, 21.0, 43.0, 64.0, 86.0, 107.0, 129.0, 150.0]
     assert part_bounds(size.span, 7, None)[1] == pytest.approx(150.0 / 7)
     with pytest.raises(UsdkslUsageError) as refused:
-        check_memory(size, "ksl", limit=estimated_bytes(size) // 5)
+        plan_memory(size, "ksl", estimated_bytes(size, steps_per_window=MIN_STEPS_PER_WINDOW) * 3 // 5)
     example = str(refused.value).split("--time-range A B (")[1].split(";")[0]
     assert all(float(value).is_integer() for pair in example.rstrip(", .").split(", ") for value in pair.split())
 
 
 def test_the_advice_of_a_real_refusal_merges(shots, tmp_path):
+    limit = _smallest_window_need(shots["large"]) - 2 ** 20
     result = CliRunner().invoke(main, ["check", str(shots["large"]), "--out", str(tmp_path / "x"), "--threads", "1",
-                                       "--memory-limit", "60M"])
+                                       "--memory-limit", str(limit)])
     first, second = str(result.stderr).split("--time-range A B (")[1].split(";")[0].split(",")[:2]
     parts = [tuple(float(v) for v in first.split()), tuple(float(v) for v in second.split())]
     times = set(load_shot(shots["large"]).times.tolist())

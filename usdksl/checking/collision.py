@@ -9,17 +9,20 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import Callable, Dict, Iterable, Optional, Sequence, Tuple
+from typing import Callable, Dict, Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .. import _native
+from .memory_windows import plan_memory_windows, window_of
 from ..ccd_defaults import DEFAULT_MAX_ITERATIONS, DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..contacts.table import ContactTable
 
 #: Broad phases of the core: kinetic separation lists, the swept-volume BVH baseline, per-sample
 #: (discrete) checks, and all pairs (the brute-force reference).
 METHODS = ("ksl", "swept", "discrete", "brute")
+#: Work counter: memory windows the range was handed to the core in (absent when it was handed whole).
+MEMORY_WINDOWS_COUNTER = "memory_windows"
 
 
 def default_threads() -> int:
@@ -70,7 +73,7 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
                   thickness: float = DEFAULT_THICKNESS, max_iterations: int = DEFAULT_MAX_ITERATIONS,
                   discrete_substeps: int = 1,
                   progress: Optional[Callable[[float, int], None]] = None,
-                  threads: Optional[int] = None) -> CollisionResult:
+                  threads: Optional[int] = None, steps_per_window: Optional[int] = None) -> CollisionResult:
     """First contact of every triangle pair of the given mesh pairs ((i, i) is a self check).
 
     ``meshes`` are loader MeshData (or anything with times, points, triangles,
@@ -79,6 +82,9 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
     (its flightplan step straddles the start) is reported at the range start.
     ``threads`` (default: every core this process may run on) splits the range
     into time windows checked in parallel; the result is identical for any count.
+    ``steps_per_window`` (None: the whole range at once) hands the core the range in memory windows of
+    about that many sample steps, one after another (usdksl.checking.memory_windows), so that it holds
+    one window of the samples at a time; the result is identical for any value.
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}")
@@ -92,6 +98,12 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
         ends = [float(m.times[-1]) for m in meshes]
         time_range = (min(starts), max(ends)) if meshes else (0.0, 0.0)
     t_begin, t_end = float(time_range[0]), float(time_range[1])
+    windows = plan_memory_windows(meshes, pair_array.tolist(), (t_begin, t_end), steps_per_window)
+    if len(windows) > 1:
+        return _find_contacts_in_windows(meshes, pair_array, windows, progress,
+                                         dict(method=method, tolerance=tolerance, thickness=thickness,
+                                              max_iterations=max_iterations, discrete_substeps=discrete_substeps,
+                                              threads=threads))
     native_meshes = [
         (np.ascontiguousarray(m.times, dtype=np.float64), np.ascontiguousarray(m.points, dtype=np.float64),
          np.ascontiguousarray(m.triangles, dtype=np.int32), np.ascontiguousarray(m.triangle_face, dtype=np.int32))
@@ -110,3 +122,34 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
         time = time[order]
         columns = {name: column[order] for name, column in columns.items()}
     return CollisionResult(time=time, counters=dict(raw["counters"]), **columns)
+
+
+def _find_contacts_in_windows(meshes: Sequence, pair_array: np.ndarray, windows: Sequence[Tuple[float, float]],
+                              progress: Optional[Callable[[float, int], None]], settings: dict) -> CollisionResult:
+    """find_contacts over consecutive ``windows``, each with the meshes' samples inside it only, joined as
+    the core joins its own time windows: the earliest row per triangle pair (the earlier window on a tie)."""
+    parts: List[CollisionResult] = []
+    found_before = 0
+    for window in windows:
+        report = None if progress is None else (
+            lambda reached, count, before=found_before: progress(reached, before + count))
+        part = find_contacts([window_of(mesh, window) for mesh in meshes], pair_array, time_range=window,
+                             progress=report, **settings)
+        parts.append(part)
+        found_before += len(part)
+    names = ("time", "mesh_a", "tri_a", "mesh_b", "tri_b", "feature", "undecided")
+    joined = {name: np.concatenate([getattr(part, name) for part in parts]) for name in names}
+    window_index = np.repeat(np.arange(len(parts)), [len(part) for part in parts])
+    by_pair = np.lexsort((window_index, joined["time"], joined["tri_b"], joined["mesh_b"], joined["tri_a"],
+                          joined["mesh_a"]))
+    key = [joined[name][by_pair] for name in ("mesh_a", "tri_a", "mesh_b", "tri_b")]
+    first = np.ones(by_pair.size, bool)
+    first[1:] = np.any([column[1:] != column[:-1] for column in key], axis=0) if by_pair.size > 1 else True
+    kept = by_pair[first]
+    kept = kept[_row_order(*(joined[name][kept] for name in ("time", "mesh_a", "tri_a", "mesh_b", "tri_b")))]
+    counters: Dict[str, int] = {}
+    for part in parts:
+        for name, value in part.counters.items():
+            counters[name] = counters.get(name, 0) + int(value)
+    counters[MEMORY_WINDOWS_COUNTER] = len(parts)
+    return CollisionResult(counters=counters, **{name: joined[name][kept] for name in names})

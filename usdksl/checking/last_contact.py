@@ -20,8 +20,9 @@ from typing import Callable, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ..contacts.table import ContactTable, match_face_pairs
+from ..contacts.table import ContactTable, latest_per_face_pair, match_face_pairs
 from .collision import find_contacts
+from .memory_windows import plan_memory_windows, window_of
 
 TimeRange = Tuple[float, float]
 
@@ -56,16 +57,32 @@ class LastContacts:
 def last_contacts(meshes: Sequence, pairs: np.ndarray, table: ContactTable, time_range: Optional[TimeRange],
                   method: str, tolerance: float, thickness: float,
                   progress: Optional[Callable[[float, int], None]] = None,
-                  threads: Optional[int] = None) -> LastContacts:
+                  threads: Optional[int] = None, steps_per_window: Optional[int] = None) -> LastContacts:
     """The last contact of every face pair of ``table`` (the first contacts of ``meshes`` over
-    ``time_range`` with the same settings, ``threads`` as for them). ``progress`` receives reversed
-    times (``-t``)."""
+    ``time_range`` with the same settings, ``threads`` and ``steps_per_window`` as for them).
+    ``progress`` receives reversed times (``-t``). With memory windows (usdksl.checking.memory_windows)
+    each window is played backwards on its own, the last first, and a face pair's last contact is the
+    latest of its windows' (the mirror image of the earliest first contact)."""
     start, end = checked_range(meshes, time_range)
-    backwards = [reversed_mesh(mesh) for mesh in meshes]
-    result = find_contacts(backwards, pairs, method=method, time_range=(-end, -start), tolerance=tolerance,
-                           thickness=thickness, progress=progress, threads=threads)
-    reversed_table = result.face_contacts(backwards)
-    latest = replace(reversed_table, time=-reversed_table.time)
+    windows = plan_memory_windows(meshes, np.asarray(pairs).reshape(-1, 2).tolist(), (start, end),
+                                  steps_per_window)
+    pieces = []
+    found_before = 0
+    for window in reversed(windows):
+        backwards = [reversed_mesh(window_of(mesh, window)) for mesh in meshes]
+        report = None if progress is None else (
+            lambda reached, count, before=found_before: progress(reached, before + count))
+        result = find_contacts(backwards, pairs, method=method, time_range=(-window[1], -window[0]),
+                               tolerance=tolerance, thickness=thickness, progress=report, threads=threads)
+        pieces.append(result.face_contacts(backwards))
+        found_before += len(result)
+    if len(pieces) == 1:
+        latest = replace(pieces[0], time=-pieces[0].time)
+    else:
+        latest = latest_per_face_pair(pieces[0].paths, *(np.concatenate([column(piece) for piece in pieces])
+                                                     for column in (lambda p: -p.time, lambda p: p.mesh_a,
+                                                                    lambda p: p.face_a, lambda p: p.mesh_b,
+                                                                    lambda p: p.face_b)))
     found, only_in_reverse = match_face_pairs(table, latest)
     last = np.where(found >= 0, latest.time[np.maximum(found, 0)] if latest.count else table.time, table.time)
     return LastContacts(last_time=np.maximum(last, table.time), missing_in_reverse=int(np.count_nonzero(found < 0)),

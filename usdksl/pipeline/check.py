@@ -32,7 +32,7 @@ from ..warning_kinds import BASELINE_MISMATCH, EMPTY_MESH, NOT_A_SURFACE, NOTHIN
 from .coverage import shot_coverage
 from .files import OutputTargets, concatenate_pieces, render_files
 from .loading import PlannedShot, checked_span, load_segments, report_blowups, require_samples_in_range
-from .memory_budget import check_memory, memory_limit, sources_size
+from .memory_budget import format_bytes, memory_limit, plan_memory, sources_size
 from .messages import ERROR, INFO, PLAN, RESULT, WARNING, Message, message_collector
 from .options import CheckOptions, TimeRange
 from .progress import Progress
@@ -97,7 +97,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             reverse_report = None if not _shown(reverse_bar) else (
                 lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
             tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
-                                        reverse_report))
+                                        reverse_report, planned.steps_per_window))
     finally:
         for shown in (bar, reverse_bar):
             if shown is not None and hasattr(shown, "close"):
@@ -126,8 +126,13 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
     # the one open of the stage and search for its meshes: counted for memory before any motion is read, then loaded
     found = find_mesh_sources(shot, predicate, allow_missing_assets=options.allow_missing_assets,
                               skin_keys_only=options.skin_keys_only, stage=stage)
-    check_memory(sources_size(found, options.time_range), options.method, memory_limit(options.memory_limit),
-                 file=name, threads=options.threads or default_threads())
+    threads = options.threads or default_threads()
+    limit = memory_limit(options.memory_limit)
+    memory = plan_memory(sources_size(found, options.time_range), options.method, limit, file=name,
+                         threads=threads, steps_per_window=options.window)
+    if memory.shortened:
+        say(INFO, f"memory: the core is handed the shot in windows of {memory.steps_per_window} sample steps "
+                  f"(about {format_bytes(memory.estimate)} of the {format_bytes(limit)} available)")
     segments, gaps = load_segments(found, options.time_range, say, name, options.strict)
     del found   # its instancers' cached transforms (instances x samples matrices) are not needed past loading
     require_samples_in_range(segments[0][1], options.time_range, name)
@@ -169,7 +174,8 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
         say(INFO, note, SPARSE_SKIN_KEYS)
     for line in coverage.lines():
         say(PLAN, line)
-    return PlannedShot(segments=segments, plans=plans, plan=plan, gaps=gaps, coverage=coverage)
+    return PlannedShot(segments=segments, plans=plans, plan=plan, gaps=gaps, coverage=coverage,
+                       steps_per_window=memory.steps_per_window)
 
 
 def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets, planned: PlannedShot,
@@ -270,9 +276,11 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
                   progress: Optional[Callable[[float, int], None]] = None,
                   say: Optional[Callable[[str, str], None]] = None,
                   counters: Optional[Dict[str, int]] = None,
-                  reverse_progress: Optional[Callable[[float, int], None]] = None) -> ContactTable:
+                  reverse_progress: Optional[Callable[[float, int], None]] = None,
+                  steps_per_window: Optional[int] = None) -> ContactTable:
     """Face contacts of one constant-topology stretch (with last contacts when ``options.last_contact``;
-    ``reverse_progress`` then follows the backwards run in reversed time). Adds the core's work counters
+    ``reverse_progress`` then follows the backwards run in reversed time), handed to the core in memory
+    windows of ``steps_per_window`` sample steps (None: whole; usdksl.checking.memory_windows). Adds the core's work counters
     (and UNDECIDED_COUNTER) to ``counters`` and warns through ``say`` about undecided triangle pairs."""
     paths = [mesh.path for mesh in segment.meshes]
     if not plan.checked_pairs:   # a piece where nothing needs a check still carries the columns of the others
@@ -280,7 +288,7 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
         return empty.with_last_times(np.zeros(0)) if options.last_contact else empty
     result = find_contacts(segment.meshes, plan.pairs, method=options.method, time_range=segment_range,
                            tolerance=options.tolerance, thickness=options.thickness, progress=progress,
-                           threads=options.threads)
+                           threads=options.threads, steps_per_window=steps_per_window)
     undecided = int(np.count_nonzero(result.undecided))
     if counters is not None:
         for name, value in list(result.counters.items()) + [(UNDECIDED_COUNTER, undecided)]:
@@ -294,7 +302,8 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
     from ..checking.last_contact import last_contacts
 
     last = last_contacts(segment.meshes, plan.pairs, table, segment_range, options.method, options.tolerance,
-                         options.thickness, progress=reverse_progress, threads=options.threads)
+                         options.thickness, progress=reverse_progress, threads=options.threads,
+                         steps_per_window=steps_per_window)
     if say is not None and last.missing_in_reverse:
         say(WARNING, f"{last.missing_in_reverse} face pairs were not found played backwards; their last "
                      f"contact is reported at their first")

@@ -31,6 +31,8 @@ class PlannedShot:
     gaps: list = field(default_factory=list)
     #: Every prim and stretch, checked or not (usdksl.pipeline.coverage).
     coverage: Optional[Coverage] = None
+    #: Sample steps of the memory windows the core is handed the shot in (usdksl.pipeline.memory_budget).
+    steps_per_window: Optional[int] = None
 
 
 def require_samples_in_range(shot, time_range: Optional[TimeRange], name: str) -> None:

@@ -8,12 +8,19 @@ counts the same on its own, reading past whatever the loader would refuse.
 :func:`estimated_bytes` turns the counts into bytes with a model calibrated against measured peak RSS
 (``python benchmarks/memory_model.py`` measures and fits it again):
 
-- per vertex-sample (one vertex at one time sample): the loader's float64 points, the core's copy,
-  the merged and the raw flightplans;
+- per vertex-sample of the whole checked range: the loader's float64 points, which the regions, the
+  cross-check and the report's pictures read at any time of the shot;
+- per vertex-sample of one memory window (usdksl.checking.memory_windows): the core's copy of the points
+  and its merged and raw flightplans, which it holds for the window it checks; a long shot is handed to the
+  core a window at a time, so this part is set by the window, not by the shot's length;
 - per triangle and thread (not per sample: the trees and lists exist once per time window, and each
   thread checks one window at a time): the step-box trees, separation-list entries and clearance certificates of KSL,
   the swept-volume trees of the other methods;
 - a fixed part: modules imported during the check, the stage, the reports.
+
+:func:`plan_memory` picks the window: DEFAULT_STEPS_PER_WINDOW_PER_THREAD sample steps per thread, or a
+shorter one (never under MIN_STEPS_PER_WINDOW) when that would not fit in what is available; it refuses only
+when even the shortest window does not fit.
 
 Contacts cost on top (reports, override layer; about a kilobyte per contacting triangle pair), which
 no scan can know: shots in heavy self contact can need more than the estimate.
@@ -53,6 +60,14 @@ NO_LIMIT = "off"
 #: stood at 1.67x to 1.98x of its peak and one noisy measurement of a 2k-face shot crossed 2x, at 6 MiB every
 #: shot lies between 1.08x and 1.89x.
 BYTES_PER_VERTEX_SAMPLE = {"ksl": 250, "swept": 120, "discrete": 120, "brute": 120}
+#: Of BYTES_PER_VERTEX_SAMPLE, what the loader holds for the whole checked range (float64 points, 24 B,
+#: plus their share of its per-mesh arrays); the rest is the core's, held for one memory window.
+LOADED_BYTES_PER_VERTEX_SAMPLE = 32
+#: Sample steps per thread of a memory window, unless memory asks for shorter ones (or --window says):
+#: the core's own time windows then each span a few dozen steps, so starting each memory window afresh
+#: costs little (benchmarks/production_shot.py measures it), while the core holds about as much for its
+#: points and flightplans as for its trees and lists.
+DEFAULT_STEPS_PER_WINDOW_PER_THREAD = 32
 BYTES_PER_TRIANGLE = {"ksl": 2600, "swept": 450, "discrete": 450, "brute": 450}
 FIXED_BYTES = 6 * 2 ** 20
 
@@ -70,6 +85,11 @@ class ShotSize:
     meshes: int = 0
     vertex_samples: int = 0
     triangles: int = 0
+    #: Vertices of the meshes with more than one sample in the range (the ones a memory window cuts), and
+    #: the most samples one of them has there.
+    animated_vertices: int = 0
+    animated_vertex_samples: int = 0
+    most_samples: int = 0
     span: Optional[TimeRange] = None
     #: Time codes at which every animated mesh has a sample (None: no animated mesh): where a shot can be cut
     #: into parts that usdksl merge joins exactly.
@@ -211,6 +231,10 @@ def _count_meshes(meshes: Iterable, time_range: Optional[TimeRange]) -> ShotSize
             ends.append(min(float(times[-1]), time_range[1]) if time_range else float(times[-1]))
         size.meshes += 1
         size.vertex_samples += max(samples, 1) * point_count
+        if samples > 1:
+            size.animated_vertices += point_count
+            size.animated_vertex_samples += samples * point_count
+            size.most_samples = max(size.most_samples, samples)
         size.triangles += int(np.clip(counts - 2, 0, None).sum())
     if time_range is not None:
         size.span = time_range
@@ -227,13 +251,32 @@ def _samples_in(times: np.ndarray, time_range: Optional[TimeRange]) -> int:
     return inside + (1 if time_range[0] == time_range[1] else 2)
 
 
-def estimated_bytes(size: ShotSize, method: str = "ksl", threads: int = 1) -> int:
-    """Peak memory the check of ``size`` on ``threads`` threads adds to the process (the model above):
-    each thread checks one time window at a time with trees and lists of its own."""
-    return int(FIXED_BYTES + BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
-               * size.vertex_samples
+def window_vertex_samples(size: ShotSize, steps_per_window: Optional[int]) -> int:
+    """Vertex-samples the core holds at once when handed ``size`` in memory windows of ``steps_per_window``
+    sample steps (None: the whole range at once): the still meshes' one sample each, and at most
+    ``steps_per_window + 1`` samples of each animated mesh."""
+    if steps_per_window is None:
+        return size.vertex_samples
+    window = min(size.animated_vertex_samples, size.animated_vertices * (int(steps_per_window) + 1))
+    return size.vertex_samples - size.animated_vertex_samples + window
+
+
+def estimated_bytes(size: ShotSize, method: str = "ksl", threads: int = 1,
+                    steps_per_window: Optional[int] = None) -> int:
+    """Peak memory the check of ``size`` on ``threads`` threads adds to the process (the model above),
+    handed to the core in memory windows of ``steps_per_window`` sample steps (None: whole): each thread
+    checks one time window at a time with trees and lists of its own."""
+    per_vertex_sample = BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
+    loaded = min(LOADED_BYTES_PER_VERTEX_SAMPLE, per_vertex_sample)
+    return int(FIXED_BYTES + loaded * size.vertex_samples
+               + (per_vertex_sample - loaded) * window_vertex_samples(size, steps_per_window)
                + BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles
                * max(int(threads), 1))
+
+
+def default_steps_per_window(threads: int) -> int:
+    """Sample steps of a memory window when memory does not ask for shorter ones."""
+    return DEFAULT_STEPS_PER_WINDOW_PER_THREAD * max(int(threads), 1)
 
 
 def part_bounds(span: TimeRange, parts: int, shared_samples: Optional[np.ndarray]) -> List[float]:
@@ -249,28 +292,59 @@ def part_bounds(span: TimeRange, parts: int, shared_samples: Optional[np.ndarray
     return sorted(set(bounds))
 
 
-def check_memory(size: ShotSize, method: str, limit: Optional[int], file: Optional[str] = None,
-                 threads: int = 1) -> int:
-    """Raise UsdkslUsageError (exit 2) when the check of ``size`` on ``threads`` threads needs more than
-    ``limit`` bytes (None: no check). The line says how much is needed and there is, and how to split the
-    work. Returns the estimate."""
-    needed = estimated_bytes(size, method, threads)
+@dataclass
+class MemoryPlan:
+    """How a check fits: the sample steps of its memory windows (None: the range whole), the estimate
+    with them, and whether memory made them shorter than the default."""
+
+    steps_per_window: Optional[int]
+    estimate: int
+    shortened: bool = False
+
+
+def plan_memory(size: ShotSize, method: str, limit: Optional[int], file: Optional[str] = None,
+                threads: int = 1, steps_per_window: Optional[int] = None) -> MemoryPlan:
+    """The memory windows of the check of ``size`` on ``threads`` threads within ``limit`` bytes (None: no
+    limit): ``steps_per_window`` when given (--window), else the default, shortened to what fits when the
+    default does not. Raises UsdkslUsageError (exit 2) when even the shortest window does not fit (or the
+    given one does not): the line says how much is needed and there is, and how to split the work."""
+    from ..checking.memory_windows import MIN_STEPS_PER_WINDOW
+
+    steps = default_steps_per_window(threads) if steps_per_window is None else max(int(steps_per_window),
+                                                                                   MIN_STEPS_PER_WINDOW)
+    needed = estimated_bytes(size, method, threads, steps)
     if limit is None or needed <= limit:
-        return needed
+        return MemoryPlan(steps, needed)
+    if steps_per_window is None and size.animated_vertices:
+        per_step = (estimated_bytes(size, method, threads, MIN_STEPS_PER_WINDOW + 1)
+                    - estimated_bytes(size, method, threads, MIN_STEPS_PER_WINDOW))
+        room = limit - estimated_bytes(size, method, threads, MIN_STEPS_PER_WINDOW)
+        if room >= 0 and per_step > 0:
+            fitting = min(steps, MIN_STEPS_PER_WINDOW + room // per_step)
+            return MemoryPlan(int(fitting), estimated_bytes(size, method, threads, int(fitting)), shortened=True)
+    refuse(size, method, limit, file, threads, steps if steps_per_window is not None else MIN_STEPS_PER_WINDOW)
+
+
+def refuse(size: ShotSize, method: str, limit: int, file: Optional[str], threads: int, steps: int) -> None:
+    """Raise the one-line UsdkslUsageError of a check that does not fit in ``limit`` bytes even in memory
+    windows of ``steps`` sample steps: what is needed and there is, and how to split the work."""
+    needed = estimated_bytes(size, method, threads, steps)
     what = (f"needs about {format_bytes(needed)} of memory to check ({size.meshes} meshes, "
             f"{size.vertex_samples:,} vertex samples, {size.triangles:,} triangles) but "
             f"{format_bytes(limit)} is available")
-    fixed = estimated_bytes(ShotSize(meshes=size.meshes, triangles=size.triangles), method, threads)
+    loaded = min(LOADED_BYTES_PER_VERTEX_SAMPLE, BYTES_PER_VERTEX_SAMPLE.get(method, LOADED_BYTES_PER_VERTEX_SAMPLE))
+    # what a part of the range needs besides the points the loader holds for it
+    fixed = needed - loaded * size.vertex_samples
     if fixed >= limit or size.span is None or size.span[1] <= size.span[0]:
         advice = "check fewer meshes at a time with --prims/--exclude"
     else:
-        chunks = math.ceil((needed - fixed) / (limit - fixed) * 1.25)
+        chunks = math.ceil(loaded * size.vertex_samples / (limit - fixed) * 1.25)
         cuts = part_bounds(size.span, chunks, size.shared_samples)
         example = ", ".join(f"{a:g} {b:g}" for a, b in zip(cuts[:3], cuts[1:4]))
         advice = (f"check it in about {chunks} parts with --time-range A B ({example}"
                   f"{', ...' if chunks > 3 else ''}; farm chunks join with usdksl merge), or fewer meshes "
                   f"with --prims/--exclude")
-    if threads > 1 and estimated_bytes(size, method, 1) <= limit:
+    if threads > 1 and estimated_bytes(size, method, 1, steps) <= limit:
         advice = f"use --threads 1 (it fits on one thread), or {advice}"
     raise UsdkslUsageError(f"{what}; {advice} (--memory-limit or {MEMORY_LIMIT_VARIABLE} overrides "
                            f"the available figure)", file=file)

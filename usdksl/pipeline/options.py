@@ -7,6 +7,7 @@ from typing import Optional, Tuple
 
 from ..ccd_defaults import DEFAULT_THICKNESS, DEFAULT_TOLERANCE
 from ..checking.collision import METHODS
+from ..checking.memory_windows import MIN_STEPS_PER_WINDOW
 from ..errors import UsdkslUsageError
 from ..reading.scope import split_patterns
 from .memory_budget import parse_memory_size
@@ -45,6 +46,9 @@ class CheckOptions:
     #: Memory the check may use: a size ("8G", bytes), "off", or None for what the machine has
     #: (usdksl.pipeline.memory_budget). Does not change any result, so not in settings().
     memory_limit: Optional[str] = None
+    #: Sample steps of the memory windows the core is handed a long shot in (usdksl.checking.memory_windows;
+    #: None: chosen from the threads and the memory available). Does not change any result, so not in settings().
+    window: Optional[int] = None
     #: Check what the stage composes even when a reference, payload, sublayer or clip asset does not
     #: resolve (the coverage account names each as not checked). Off: such a stage is an input error.
     allow_missing_assets: bool = False
@@ -60,6 +64,9 @@ class CheckOptions:
         parse_memory_size(self.memory_limit)
         if self.method not in METHODS:
             raise UsdkslUsageError(f"--method must be one of {', '.join(METHODS)}, got {self.method!r}")
+        if self.window is not None and not (isinstance(self.window, int) and self.window >= MIN_STEPS_PER_WINDOW):
+            raise UsdkslUsageError(f"--window must be a whole number of sample steps, at least "
+                                   f"{MIN_STEPS_PER_WINDOW}, got {self.window!r}")
         if not self.tolerance > 0:
             raise UsdkslUsageError(f"--tolerance must be positive, got {self.tolerance!r}")
         if not self.thickness >= 0:
