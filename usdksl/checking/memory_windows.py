@@ -21,6 +21,8 @@ from typing import Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..unmasked import distinct_sorted
+
 TimeRange = Tuple[float, float]
 
 #: Fewest sample steps a memory window spans (a shorter one costs its rebuild for little work); the
@@ -48,14 +50,14 @@ def plan_memory_windows(meshes: Sequence, pairs: Iterable[Tuple[int, int]], time
     animated = [meshes[index] for index in used_meshes(meshes, pairs) if len(meshes[index].times) > 1]
     if not animated:
         return [(start, end)]
-    times = np.unique(np.concatenate([np.asarray(mesh.times, np.float64) for mesh in animated]
-                                     + [np.array([start, end])]))
+    times = distinct_sorted(np.concatenate([np.asarray(mesh.times, np.float64) for mesh in animated]
+                                           + [np.array([start, end])]))
     times = times[(times >= start) & (times <= end)]
     if times.size - 1 <= steps_per_window:
         return [(start, end)]
     shared = times
     for mesh in animated:
-        shared = np.intersect1d(shared, np.asarray(mesh.times, np.float64), assume_unique=True)
+        shared = shared[_is_in(shared, np.asarray(mesh.times, np.float64))]
     cut_index = np.searchsorted(times, shared)          # each shared time's step index
     last = times.size - 1
     cuts: List[int] = []
@@ -74,6 +76,13 @@ def plan_memory_windows(meshes: Sequence, pairs: Iterable[Tuple[int, int]], time
         cuts.append(at)
     bounds = [start] + [float(times[index]) for index in cuts] + [end]
     return list(zip(bounds[:-1], bounds[1:]))
+
+
+def _is_in(values: np.ndarray, sorted_values: np.ndarray) -> np.ndarray:
+    """bool per value: whether it occurs in ``sorted_values`` (np.isin imports numpy.ma, which a plain
+    check does not load)."""
+    at = np.minimum(np.searchsorted(sorted_values, values), max(sorted_values.size - 1, 0))
+    return sorted_values[at] == values if sorted_values.size else np.zeros(values.size, bool)
 
 
 def window_of(mesh, window: TimeRange):

@@ -335,10 +335,11 @@ def refuse(size: ShotSize, method: str, limit: int, file: Optional[str], threads
     loaded = min(LOADED_BYTES_PER_VERTEX_SAMPLE, BYTES_PER_VERTEX_SAMPLE.get(method, LOADED_BYTES_PER_VERTEX_SAMPLE))
     # what a part of the range needs besides the points the loader holds for it
     fixed = needed - loaded * size.vertex_samples
-    if fixed >= limit or size.span is None or size.span[1] <= size.span[0]:
+    chunks = math.ceil(loaded * size.vertex_samples / (limit - fixed) * 1.25) if fixed < limit else 0
+    # parts shorter than a window each would not be worth a farm task: fewer meshes is the way then
+    if not 0 < chunks <= max(size.most_samples // steps, 1) or size.span is None or size.span[1] <= size.span[0]:
         advice = "check fewer meshes at a time with --prims/--exclude"
     else:
-        chunks = math.ceil(loaded * size.vertex_samples / (limit - fixed) * 1.25)
         cuts = part_bounds(size.span, chunks, size.shared_samples)
         example = ", ".join(f"{a:g} {b:g}" for a, b in zip(cuts[:3], cuts[1:4]))
         advice = (f"check it in about {chunks} parts with --time-range A B ({example}"
