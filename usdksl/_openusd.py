@@ -24,8 +24,19 @@ def _running_the_command() -> bool:
     return name in ("usdksl", "usdksl.exe", "usdksl-script.py")
 
 
+#: OpenUSD's setting that reads crate (.usdc) files with pread instead of mapping them into memory.
+CRATE_PREAD_VARIABLE = "USDC_USE_PREAD"
+
+
 def require_openusd() -> None:
-    """Import pxr.Usd or fail with one line (module docstring)."""
+    """Import pxr.Usd or fail with one line (module docstring).
+
+    The ``usdksl`` command (and the Dask workers it starts, which inherit its environment) reads crate files
+    with pread (CRATE_PREAD_VARIABLE, unless set already): a mapped crate file's pages count in the process's
+    resident memory for as long as its stage is open, half again what the loader keeps of the shot's points,
+    where pread reads what is asked and lets it go. A library user's process keeps USD's own choice."""
+    if _running_the_command():
+        os.environ.setdefault(CRATE_PREAD_VARIABLE, "1")
     try:
         from pxr import Usd  # noqa: F401
     except ImportError as error:

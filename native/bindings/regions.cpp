@@ -21,6 +21,7 @@ using namespace usdksl;
 namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using FloatArray = py::array_t<float, py::array::c_style>;
 using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
 using BoolArray = py::array_t<bool, py::array::c_style | py::array::forcecast>;
 
@@ -36,7 +37,11 @@ HeldMeshes hold_meshes(const py::list& meshes_in) {
         const py::tuple t = py::reinterpret_borrow<py::tuple>(meshes_in[i]);
         if (t.size() != 4) throw std::invalid_argument("mesh must be (times, points, triangles, triangle_face)");
         const DoubleArray times = t[0].cast<DoubleArray>();
-        const DoubleArray points = t[1].cast<DoubleArray>();
+        // float points are read in place as they are (a loader's authored world-space points); anything
+        // else as doubles
+        const bool single = py::isinstance<FloatArray>(t[1]) &&
+                            (py::reinterpret_borrow<py::array>(t[1]).flags() & py::array::c_style);
+        const py::array points = single ? py::array(t[1].cast<FloatArray>()) : py::array(t[1].cast<DoubleArray>());
         const IntArray triangles = t[2].cast<IntArray>();
         const IntArray faces = t[3].cast<IntArray>();
         const std::string where = "mesh " + std::to_string(i) + ": ";
@@ -49,7 +54,8 @@ HeldMeshes hold_meshes(const py::list& meshes_in) {
         MeshView view;
         view.times = times.data();
         view.sample_count = static_cast<int32_t>(times.shape(0));
-        view.points = points.data();
+        if (single) view.points_float = static_cast<const float*>(points.data());
+        else view.points = static_cast<const double*>(points.data());
         view.vertex_count = static_cast<int32_t>(points.shape(1));
         view.triangles = triangles.data();
         view.triangle_count = static_cast<int32_t>(triangles.shape(0));

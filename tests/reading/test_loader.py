@@ -405,3 +405,27 @@ def test_transforms_held_by_single_samples_move_every_sample_as_pxr_says(build):
                                atol=1e-12)
     assert shot.mesh("/Root/Mover/Held").kind == "static"
     assert shot.mesh("/Root/Mover/Carried").kind == "rigid"
+
+
+def test_authored_float_points_in_world_space_are_kept_as_they_are_in_half_the_memory(build):
+    """Points no transform moves are the authored floats: kept as float32 (the same numbers, read by the
+    core and the regions as the same doubles); a transform gives float64."""
+    points, counts, indices = quad_grid(3, 3)
+    rng = np.random.default_rng(4)
+    samples = {float(t): points + rng.normal(0, 0.1, points.shape) for t in range(6)}
+
+    def fill(stage):
+        write_mesh(stage, "/InPlace", counts, indices, samples=samples)
+        moved = UsdGeom.Xform.Define(stage, "/Moved")
+        moved.AddTranslateOp().Set(Gf.Vec3d(0.1, 0, 0))
+        write_mesh(stage, "/Moved/Mesh", counts, indices, samples=samples)
+
+    shot = load_shot(build("precision.usda", fill))
+    in_place, moved = (shot.mesh(path) for path in ("/InPlace", "/Moved/Mesh"))
+    assert in_place.points.dtype == np.float32 and in_place.points.flags["C_CONTIGUOUS"]
+    assert moved.points.dtype == np.float64
+    for k, time in enumerate(sorted(samples)):
+        authored = np.asarray(samples[time], np.float32)
+        assert in_place.points[k].tobytes() == authored.tobytes()
+        assert np.array_equal(moved.points[k], authored.astype(np.float64) + [0.1, 0, 0])
+    assert in_place.points.nbytes * 2 == moved.points.nbytes

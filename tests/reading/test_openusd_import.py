@@ -60,3 +60,16 @@ def test_usd_core_is_an_extra_that_the_test_extra_pulls_in():
     extras = project["optional-dependencies"]
     assert any(requirement.startswith("usd-core") for requirement in extras["usd"])
     assert any(requirement.startswith("usd-core") for requirement in extras["test"])
+
+
+@pytest.mark.parametrize("program, expected", [("usdksl", "1"), ("python", None)])
+def test_the_command_reads_crate_files_with_pread_and_a_library_user_keeps_usds_choice(program, expected, tmp_path):
+    """A mapped crate file's pages stay resident while its stage is open; the command asks USD for pread."""
+    from usdksl._openusd import CRATE_PREAD_VARIABLE
+
+    env = {key: value for key, value in os.environ.items() if key != CRATE_PREAD_VARIABLE}
+    code = ("import os, sys; sys.argv = [sys.argv[1]]; from usdksl._openusd import require_openusd, "
+            "CRATE_PREAD_VARIABLE as name; require_openusd(); print(os.environ.get(name))")
+    result = subprocess.run([sys.executable, "-c", code, program], capture_output=True, text=True, env=env,
+                            cwd=tmp_path, check=True)
+    assert result.stdout.strip() == str(expected)

@@ -203,7 +203,8 @@ def find_blowups(prim: str, times: np.ndarray, points: np.ndarray, glitches: Seq
     steps_per_block = max(1, BLOWUP_BLOCK_VALUES // (3 * points.shape[1]))
     for first in range(0, points.shape[0] - 1, steps_per_block):
         last = min(first + steps_per_block, points.shape[0] - 1)
-        steps = points[first + 1:last + 1] - points[first:last]
+        block = points[first:last + 1].astype(np.float64, copy=False)   # float32 points: the same doubles
+        steps = block[1:] - block[:-1]
         largest = np.sqrt(np.einsum("kni,kni->kn", steps, steps).max(axis=1))
         suspect = np.nonzero(~(EXCESS_BOUND_FACTOR * largest <= threshold))[0]  # NaN stays suspect
         if suspect.size == 0:
@@ -230,9 +231,10 @@ def _deviation(points: np.ndarray, times: np.ndarray, first: int, last: int, sta
     """float[last - first + 1, N, 3]: each vertex at samples first..last minus its position on the line, in
     time, through its positions at samples ``start`` and ``end`` (scene units)."""
     weights = (times[first:last + 1] - times[start]) / (times[end] - times[start])
-    deviation = (points[end] - points[start])[None] * -weights[:, None, None]
+    at_start, at_end = (points[k].astype(np.float64, copy=False) for k in (start, end))
+    deviation = (at_end - at_start)[None] * -weights[:, None, None]
     deviation += points[first:last + 1]
-    deviation -= points[start]
+    deviation -= at_start
     return deviation
 
 

@@ -31,7 +31,9 @@ class MeshData:
 
     path: str
     times: np.ndarray          # float64[K], strictly increasing; K == 1 for static meshes
-    points: np.ndarray         # float64[K, N, 3], C-contiguous, world space at each of `times`
+    #: float64[K, N, 3], C-contiguous, world space at each of `times`; float32 when they are the authored
+    #: float points as they are (no transform moves them): the same numbers in half the memory.
+    points: np.ndarray
     triangles: np.ndarray      # int32[M, 3], fan triangulation of the authored faces, holes left out
     triangle_face: np.ndarray  # int32[M], authored face index of each triangle
     face_count: int            # number of authored faces (len(faceVertexCounts))
@@ -422,6 +424,9 @@ def classified_mesh(path: str, times: np.ndarray, points: np.ndarray, local_cons
                     **identity)
 
 
+#: The local-to-world transform that leaves points as authored (USD row-vector convention).
+IDENTITY_MATRIX = np.eye(4)
+
 #: Point coordinates (samples x points x 3) read before they are moved to world space together: bounds the
 #: extra memory of a block (16 MB of float32) while keeping per-sample numpy calls out of the Python loop over
 #: samples (a transform that moves, as a rigid body's, contributes one matrix per sample to the block's product).
@@ -499,11 +504,15 @@ def load_mesh(prim: Usd.Prim, times: np.ndarray, file: str = "",
     # a transform that cannot vary is the same matrix at every sample: computed once, applied in blocks
     fixed_matrix = None if transform_may_vary(prim) else matrices.local_to_world(prim, topology.first_time)
 
-    points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float64)
+    # authored float points already in world space are kept as they are: the same numbers in half the memory
+    in_place = (fixed_matrix is not None and np.array_equal(fixed_matrix, IDENTITY_MATRIX)
+                and topology.first_local.dtype == np.float32)
+    points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float32 if in_place else np.float64)
     local_constant = _points_in_blocks(file, path, points_attr, times, topology, points_animated, fixed_matrix,
                                        matrices, prim, points)
     if local_constant is not None:
         return classified_mesh(path, times, points, local_constant, topology)
+    points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float64)   # a sample in double
     local_constant = True
     for k, time in enumerate(times):
         time = float(time)

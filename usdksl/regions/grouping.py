@@ -45,8 +45,10 @@ class Grouping:
 
 def mesh_arrays(meshes: Sequence) -> List[tuple]:
     """(times, points, triangles, triangle_face) per mesh, as the core reads them (no copy when the arrays
-    already have its dtypes and layout)."""
-    return [(np.ascontiguousarray(m.times, dtype=np.float64), np.ascontiguousarray(m.points, dtype=np.float64),
+    already have its dtypes and layout; float32 points, as the loader keeps authored world-space points, are
+    read in place as the same doubles)."""
+    return [(np.ascontiguousarray(m.times, dtype=np.float64),
+             np.ascontiguousarray(m.points, dtype=np.float32 if m.points.dtype == np.float32 else np.float64),
              np.ascontiguousarray(m.triangles, dtype=np.int32), np.ascontiguousarray(m.triangle_face, dtype=np.int32))
             for m in meshes]
 

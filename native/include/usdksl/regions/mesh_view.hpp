@@ -19,8 +19,12 @@ struct MeshView {
     const double* times = nullptr;
     int32_t sample_count = 0;
     /// @brief World-space positions (scene units), sample-major:
-    ///        points[(k * vertex_count + v) * 3 + axis].
+    ///        points[(k * vertex_count + v) * 3 + axis]; in double, or, when
+    ///        `points` is null, in float (`points_float`: a loader keeps a
+    ///        shot's authored float points as they are where they are already
+    ///        in world space, half the memory, read here as the same doubles).
     const double* points = nullptr;
+    const float* points_float = nullptr;
     int32_t vertex_count = 0;
     /// @brief Triangles as vertex index triplets, triangle_count of them.
     const int32_t* triangles = nullptr;
@@ -45,15 +49,20 @@ struct SampleBlend {
 /// @brief The blend of mesh `mesh` at time code t.
 SampleBlend blend_at(const MeshView& mesh, double t);
 
+/// @brief Coordinate `axis` of vertex `vertex` at sample `k` (scene units).
+inline double sample_coord(const MeshView& mesh, int32_t k, int32_t vertex, int axis) {
+    const int64_t at = (static_cast<int64_t>(k) * mesh.vertex_count + vertex) * 3 + axis;
+    return mesh.points ? mesh.points[at] : static_cast<double>(mesh.points_float[at]);
+}
 /// @brief Position of vertex `vertex` of `mesh` under `blend` (scene units).
 inline Vec3 point_at(const MeshView& mesh, const SampleBlend& blend, int32_t vertex) {
-    const double* p0 = mesh.points + (static_cast<int64_t>(blend.k0) * mesh.vertex_count + vertex) * 3;
-    if (blend.w == 0.0) return Vec3(p0[0], p0[1], p0[2]);
-    const double* p1 = mesh.points + (static_cast<int64_t>(blend.k1) * mesh.vertex_count + vertex) * 3;
-    return Vec3(p0[0] + blend.w * (p1[0] - p0[0]), p0[1] + blend.w * (p1[1] - p0[1]),
-                p0[2] + blend.w * (p1[2] - p0[2]));
+    const double x0 = sample_coord(mesh, blend.k0, vertex, 0), y0 = sample_coord(mesh, blend.k0, vertex, 1),
+                 z0 = sample_coord(mesh, blend.k0, vertex, 2);
+    if (blend.w == 0.0) return Vec3(x0, y0, z0);
+    const double x1 = sample_coord(mesh, blend.k1, vertex, 0), y1 = sample_coord(mesh, blend.k1, vertex, 1),
+                 z1 = sample_coord(mesh, blend.k1, vertex, 2);
+    return Vec3(x0 + blend.w * (x1 - x0), y0 + blend.w * (y1 - y0), z0 + blend.w * (z1 - z0));
 }
-
 /// @brief Positions of triangle `tri` of `mesh` under `blend`.
 inline std::array<Vec3, 3> triangle_at(const MeshView& mesh, const SampleBlend& blend, int32_t tri) {
     const Triangle ids = mesh.triangle(tri);
