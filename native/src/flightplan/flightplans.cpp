@@ -1,5 +1,9 @@
 #include "usdksl/flightplan/flightplans.hpp"
 
+#include "chord_deviation.hpp"
+#include "collinear_merge.hpp"
+#include "shared_breakpoints.hpp"
+
 #include "usdksl/constants.hpp"
 #include "usdksl/run_on_threads.hpp"
 
@@ -11,35 +15,11 @@
 #include <utility>
 
 namespace usdksl {
-namespace {
-
-/// Distance (infinity norm) of sample j from the straight constant-speed path
-/// between samples i and k.
-double deviation_from_chord(const MeshAnimation& mesh, int32_t v, int64_t i, int64_t j, int64_t k) {
-    const double ti = mesh.times[i], tj = mesh.times[j], tk = mesh.times[k];
-    const double w = (tj - ti) / (tk - ti);
-    const size_t n = static_cast<size_t>(mesh.vertex_count);
-    double worst = 0.0;
-    for (int axis = 0; axis < 3; ++axis) {
-        const double pi = mesh.points[(i * n + v) * 3 + axis];
-        const double pj = mesh.points[(j * n + v) * 3 + axis];
-        const double pk = mesh.points[(k * n + v) * 3 + axis];
-        worst = std::max(worst, std::abs(pi + w * (pk - pi) - pj));
-    }
-    return worst;
-}
-
-/// Largest absolute coordinate of vertex v at sample k (scene units).
-double sample_magnitude(const MeshAnimation& mesh, int32_t v, int64_t k) {
-    const double* p = &mesh.points[(static_cast<size_t>(k) * static_cast<size_t>(mesh.vertex_count) + v) * 3];
-    return std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
-}
-
-} // namespace
 
 /// A run of consecutive vertices of one mesh, built on one thread: first its
-/// breakpoints are chosen (how many per vertex), then, once every run of the
-/// mesh has counted its own, written at their place in the mesh's arrays.
+/// breakpoints are chosen (how many per vertex), then aligned with those the
+/// other vertices keep, then, once every run of the mesh has counted its own,
+/// written at their place in the mesh's arrays.
 struct Flightplans::VertexRun {
     const MeshAnimation* mesh = nullptr;
     bool merge_collinear = false;
@@ -49,7 +29,9 @@ struct Flightplans::VertexRun {
     /// without merging, where every sample is one).
     std::vector<int32_t> kept_samples;
     std::vector<int64_t> count;  // breakpoints per vertex
-    std::vector<std::pair<int32_t, double>> deviations;  // vertices whose dropped samples lie off their flightplan
+    std::vector<double> deviation;  // merging: per vertex, of its dropped samples from its flightplan (scene units)
+    /// Merging, between the passes: how many of the run's vertices keep each sample of the mesh.
+    std::vector<int64_t> kept_per_sample;
     double merge_deviation = 0.0;
     int64_t first_key = 0;  // index of the run's first breakpoint among the mesh's
 };
@@ -58,8 +40,11 @@ void Flightplans::choose_breakpoints(VertexRun& run) {
     const MeshAnimation& mesh = *run.mesh;
     const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
     const size_t n = static_cast<size_t>(mesh.vertex_count);
-    const bool merge_collinear = run.merge_collinear;
     run.count.reserve(static_cast<size_t>(run.last - run.first));
+    if (run.merge_collinear) {
+        run.deviation.reserve(static_cast<size_t>(run.last - run.first));
+        run.kept_per_sample.assign(static_cast<size_t>(sample_count), 0);
+    }
     std::vector<int64_t> kept;
     kept.reserve(static_cast<size_t>(sample_count));
     for (int32_t v = run.first; v < run.last; ++v) {
@@ -69,55 +54,45 @@ void Flightplans::choose_breakpoints(VertexRun& run) {
                 throw std::invalid_argument("flightplans: non-finite point coordinate");
             }
         }
-        if (!merge_collinear) {
+        if (!run.merge_collinear) {
             run.count.push_back(sample_count);
             continue;
         }
-        kept.clear();
-        kept.push_back(0);
-        double deviation = 0.0;  // of vertex v
-        double run_deviation = 0.0;  // of the samples dropped since the last kept one
-        double run_magnitude = sample_magnitude(mesh, v, 0);  // of the samples since the last kept one
-        for (int64_t k = 1; k < sample_count; ++k) {
-            if (k + 1 < sample_count) {
-                // Drop sample k when every sample since the last kept one lies on
-                // the chord from the last kept sample to sample k + 1, within a
-                // tolerance relative to those samples alone: one vertex far away
-                // (a simulation blow-up) loosens nothing elsewhere.
-                const int64_t anchor = kept.back();
-                const double magnitude = std::max({run_magnitude, sample_magnitude(mesh, v, k),
-                                                   sample_magnitude(mesh, v, k + 1)});
-                const double merge_tolerance = FLIGHTPLAN_COLLINEAR_TOLERANCE * magnitude;
-                double worst = 0.0;
-                for (int64_t j = anchor + 1; j <= k && worst <= merge_tolerance; ++j) {
-                    worst = std::max(worst, deviation_from_chord(mesh, v, anchor, j, k + 1));
-                }
-                if (worst <= merge_tolerance) {
-                    run_magnitude = std::max(run_magnitude, sample_magnitude(mesh, v, k));
-                    run_deviation = worst;
-                    continue;
-                }
-                deviation = std::max(deviation, run_deviation);
-                run_deviation = 0.0;
-            }
-            kept.push_back(k);
-            run_magnitude = sample_magnitude(mesh, v, k);
-        }
-        deviation = std::max(deviation, run_deviation);
-        if (deviation > 0.0) run.deviations.emplace_back(v, deviation);
+        const double deviation = merge_collinear_samples(mesh, v, nullptr, kept);
+        run.deviation.push_back(deviation);
         run.merge_deviation = std::max(run.merge_deviation, deviation);
-        // A vertex that never moves keeps a single breakpoint.
-        if (kept.size() == 2) {
-            bool still = true;
-            for (int axis = 0; axis < 3; ++axis) {
-                still = still && mesh.points[(static_cast<size_t>(kept[0]) * n + v) * 3 + axis] ==
-                                     mesh.points[(static_cast<size_t>(kept[1]) * n + v) * 3 + axis];
-            }
-            if (still) kept.pop_back();
+        for (int64_t k : kept) {
+            run.kept_samples.push_back(static_cast<int32_t>(k));
+            ++run.kept_per_sample[static_cast<size_t>(k)];
         }
-        for (int64_t k : kept) run.kept_samples.push_back(static_cast<int32_t>(k));
         run.count.push_back(static_cast<int64_t>(kept.size()));
     }
+}
+
+void Flightplans::align_breakpoints(VertexRun& run, const int64_t* popularity) {
+    if (!run.merge_collinear) return;
+    const MeshAnimation& mesh = *run.mesh;
+    const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
+    std::vector<int32_t> aligned;
+    aligned.reserve(run.kept_samples.size());
+    std::vector<int64_t> kept;
+    kept.reserve(static_cast<size_t>(sample_count));
+    run.merge_deviation = 0.0;
+    size_t at = 0;  // v's first breakpoint in run.kept_samples
+    for (size_t i = 0; i < run.count.size(); ++i) {
+        const int32_t v = run.first + static_cast<int32_t>(i);
+        kept.assign(run.kept_samples.begin() + static_cast<std::ptrdiff_t>(at),
+                    run.kept_samples.begin() + static_cast<std::ptrdiff_t>(at + static_cast<size_t>(run.count[i])));
+        at += static_cast<size_t>(run.count[i]);
+        // Most vertices already break where the others do: merging again would keep the same samples.
+        if (!breaks_are_preferred(kept, sample_count, popularity)) {
+            run.deviation[i] = merge_collinear_samples(mesh, v, popularity, kept);
+            run.count[i] = static_cast<int64_t>(kept.size());
+        }
+        for (int64_t k : kept) aligned.push_back(static_cast<int32_t>(k));
+        run.merge_deviation = std::max(run.merge_deviation, run.deviation[i]);
+    }
+    run.kept_samples = std::move(aligned);
 }
 
 void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
@@ -146,6 +121,38 @@ void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
 
 Flightplans::Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_t threads)
     : Flightplans(std::move(build_all({FlightplanRequest{&mesh, merge_collinear}}, threads).front())) {}
+
+std::vector<std::vector<int64_t>> Flightplans::sample_popularity(const std::vector<FlightplanRequest>& requests,
+                                                                 std::vector<VertexRun>& runs) {
+    // Breakpoints are sample times, and the kinetic core steps along their
+    // union over every mesh: a time counts for each vertex of any merging
+    // mesh that keeps it.
+    std::vector<double> times;
+    for (const FlightplanRequest& request : requests) {
+        if (request.merge_collinear) times.insert(times.end(), request.mesh->times.begin(), request.mesh->times.end());
+    }
+    std::sort(times.begin(), times.end());
+    times.erase(std::unique(times.begin(), times.end()), times.end());
+    std::vector<std::vector<size_t>> time_index(requests.size());  // per merging mesh: each sample's place in `times`
+    for (size_t r = 0; r < requests.size(); ++r) {
+        if (!requests[r].merge_collinear) continue;
+        for (double t : requests[r].mesh->times) {
+            time_index[r].push_back(static_cast<size_t>(std::lower_bound(times.begin(), times.end(), t) - times.begin()));
+        }
+    }
+    // Integer sums: the same in any order, so for any thread count.
+    std::vector<int64_t> kept_at(times.size(), 0);
+    for (VertexRun& run : runs) {
+        const std::vector<size_t>& index = time_index[static_cast<size_t>(run.plans)];
+        for (size_t k = 0; k < run.kept_per_sample.size(); ++k) kept_at[index[k]] += run.kept_per_sample[k];
+        run.kept_per_sample = std::vector<int64_t>();
+    }
+    std::vector<std::vector<int64_t>> popularity(requests.size());
+    for (size_t r = 0; r < requests.size(); ++r) {
+        for (size_t i : time_index[r]) popularity[r].push_back(kept_at[i]);
+    }
+    return popularity;
+}
 
 std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequest>& requests, int32_t threads) {
     std::vector<VertexRun> runs;
@@ -179,6 +186,11 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
     }
     const int32_t run_total = static_cast<int32_t>(runs.size());
     parallel_for(std::max(threads, 1), run_total, [&](int32_t i) { choose_breakpoints(runs[static_cast<size_t>(i)]); });
+    const std::vector<std::vector<int64_t>> popularity = sample_popularity(requests, runs);
+    parallel_for(std::max(threads, 1), run_total, [&](int32_t i) {
+        VertexRun& run = runs[static_cast<size_t>(i)];
+        align_breakpoints(run, popularity[static_cast<size_t>(run.plans)].data());
+    });
 
     std::vector<int64_t> keys(requests.size(), 0);  // breakpoints per mesh
     for (VertexRun& run : runs) {
@@ -204,9 +216,10 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
     std::vector<Flightplans> built(requests.size());
     for (const VertexRun& run : runs) {
         Storage& storage = *storages[static_cast<size_t>(run.plans)];
-        for (const auto& [v, deviation] : run.deviations) {
+        for (size_t i = 0; i < run.deviation.size(); ++i) {
+            if (run.deviation[i] == 0.0) continue;
             if (storage.vertex_deviation.empty()) storage.vertex_deviation.assign(storage.vertex_magnitude.size(), 0.0);
-            storage.vertex_deviation[static_cast<size_t>(v)] = deviation;
+            storage.vertex_deviation[static_cast<size_t>(run.first) + i] = run.deviation[i];
         }
         Flightplans& plans = built[static_cast<size_t>(run.plans)];
         plans.merge_deviation_ = std::max(plans.merge_deviation_, run.merge_deviation);

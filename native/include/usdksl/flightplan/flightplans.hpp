@@ -33,15 +33,22 @@ public:
     ///        straight line at constant speed, within
     ///        FLIGHTPLAN_COLLINEAR_TOLERANCE times the largest absolute
     ///        coordinate of the samples that merge (local to the vertex and to
-    ///        that stretch of time). Up to `threads` threads build runs of
-    ///        vertices (the same flightplans for any count).
+    ///        that stretch of time). Where a vertex must break somewhere in a
+    ///        stretch of samples, it breaks at a sample most vertices keep, so
+    ///        breakpoints line up across vertices (a first pass counts them):
+    ///        the kinetic core steps along their union. Up to `threads`
+    ///        threads build runs of vertices (the same flightplans for any count).
     Flightplans(const MeshAnimation& mesh, bool merge_collinear, int32_t threads = 1);
 
     /// @brief The flightplans of several meshes, one per request, built
     ///        together on up to `threads` threads: runs of vertices of every
     ///        mesh are handed out as one pool of work, so a few large meshes
     ///        and many small ones keep every thread busy (the same
-    ///        flightplans for any count).
+    ///        flightplans for any count). The merging meshes line their
+    ///        breakpoints up together: a vertex that must break prefers a time
+    ///        that the vertices of every merging mesh keep, so a mesh's merged
+    ///        flightplans may differ from those it gets built alone (each
+    ///        within the same tolerance of its samples).
     static std::vector<Flightplans> build_all(const std::vector<FlightplanRequest>& requests, int32_t threads);
 
     int32_t vertex_count() const { return vertex_count_; }
@@ -126,8 +133,16 @@ public:
 private:
     struct VertexRun;
     /// Picks the breakpoints of the run's vertices among their samples
-    /// (all of them unless merging), checking that those samples are finite.
+    /// (all of them unless merging), checking that those samples are finite,
+    /// and counts how many of its vertices keep each sample.
     static void choose_breakpoints(VertexRun& run);
+    /// Per request, how many vertices of every merging mesh keep each of its
+    /// samples' times, from the runs' counts (empty for a mesh not merging).
+    static std::vector<std::vector<int64_t>> sample_popularity(const std::vector<FlightplanRequest>& requests,
+                                                               std::vector<VertexRun>& runs);
+    /// Merging again, each vertex whose breaks are not where the others
+    /// break (shared_breakpoints.hpp), `popularity` indexed by the mesh's samples.
+    static void align_breakpoints(VertexRun& run, const int64_t* popularity);
     struct Storage;
     /// Writes the run's breakpoints, offsets and vertex magnitudes into the
     /// mesh's arrays, from its first breakpoint on.

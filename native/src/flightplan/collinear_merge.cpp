@@ -1,0 +1,66 @@
+#include "collinear_merge.hpp"
+
+#include "chord_deviation.hpp"
+#include "chord_velocity_window.hpp"
+#include "shared_breakpoints.hpp"
+
+#include "usdksl/constants.hpp"
+
+#include <algorithm>
+
+namespace usdksl {
+
+double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
+                               std::vector<int64_t>& kept) {
+    const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
+    const size_t n = static_cast<size_t>(mesh.vertex_count);
+    kept.clear();
+    kept.push_back(0);
+    double deviation = 0.0;  // of vertex v
+    double run_magnitude = sample_magnitude(mesh, v, 0);  // of the samples since the last kept one
+    ChordVelocityWindow window;
+    window.reset(mesh, v, 0);
+    for (int64_t k = 1; k < sample_count; ++k) {
+        if (k + 1 < sample_count) {
+            // Drop sample k when every sample since the last kept one lies on
+            // the chord from the last kept sample to sample k + 1.
+            const int64_t anchor = kept.back();
+            const double magnitude = std::max({run_magnitude, sample_magnitude(mesh, v, k),
+                                               sample_magnitude(mesh, v, k + 1)});
+            window.add(k);
+            bool merges = window.admits_chord_to(k + 1, magnitude);
+            if (!merges) {
+                const double merge_tolerance = FLIGHTPLAN_COLLINEAR_TOLERANCE * magnitude;
+                double worst = 0.0;
+                for (int64_t j = anchor + 1; j <= k && worst <= merge_tolerance; ++j) {
+                    worst = std::max(worst, deviation_from_chord(mesh, v, anchor, j, k + 1));
+                }
+                merges = worst <= merge_tolerance;
+            }
+            if (merges) {
+                run_magnitude = std::max(run_magnitude, sample_magnitude(mesh, v, k));
+                continue;
+            }
+            // The run ends at or before k; the walk goes on from its end.
+            const RunEnd end = aligned_run_end(mesh, v, anchor, k, popularity);
+            deviation = std::max(deviation, end.deviation);
+            k = end.sample;
+        } else {
+            deviation = std::max(deviation, run_deviation(mesh, v, kept.back(), k));
+        }
+        kept.push_back(k);
+        run_magnitude = sample_magnitude(mesh, v, k);
+        window.reset(mesh, v, k);
+    }
+    if (kept.size() == 2) {
+        bool still = true;
+        for (int axis = 0; axis < 3; ++axis) {
+            still = still && mesh.points[(static_cast<size_t>(kept[0]) * n + v) * 3 + axis] ==
+                                 mesh.points[(static_cast<size_t>(kept[1]) * n + v) * 3 + axis];
+        }
+        if (still) kept.pop_back();
+    }
+    return deviation;
+}
+
+} // namespace usdksl
