@@ -24,7 +24,6 @@ from usdksl.regions.baseline import baseline_for_shot
 from usdksl.errors import UsdkslInputError, UsdkslUsageError
 from usdksl.exit_codes import INPUT_ERROR
 from usdksl.pipeline.check import check_shot
-from usdksl.pipeline.memory_budget import DEFAULT_STEPS_PER_WINDOW_PER_THREAD
 from usdksl.pipeline.files import output_targets
 from usdksl.pipeline.messages import NORMAL, QUIET, VERBOSE, WARNING, Message
 from usdksl.pipeline.options import CheckOptions
@@ -127,9 +126,9 @@ def _echo(line: str) -> None:
                    "shot is handed to the core in shorter time windows to fit; one that does not fit even so "
                    "is refused (exit 2) before it is loaded.")
 @click.option("--window", type=click.IntRange(min=MIN_STEPS_PER_WINDOW), default=None, metavar="STEPS",
-              help=f"Sample steps of the time windows the core holds at once (default: "
-                   f"{DEFAULT_STEPS_PER_WINDOW_PER_THREAD} per thread, shorter "
-                   "when memory asks); results are identical for any value.")
+              help="Sample steps of the time windows the core holds at once (default: about 1 GiB of "
+                   "samples, or what the triangles take when more; shorter when memory asks); results are "
+                   "identical for any value.")
 def check(shots, out, method, tolerance, thickness, self_check, inter_check, time_range, prims, exclude,
           include_guides, include_invisible, rigid, crosscheck, last_contact, baseline,
           baseline_time_tolerance, plot_path, report_path, json_path, junit_path, strict, allow_missing_assets, skin_keys_only,

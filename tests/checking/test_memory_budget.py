@@ -10,9 +10,11 @@ import pytest
 from click.testing import CliRunner
 
 from usdksl.pipeline.memory_budget import (
-    DEFAULT_STEPS_PER_WINDOW_PER_THREAD, MEMORY_LIMIT_VARIABLE, ShotSize, _cgroup_room, _meminfo_available,
-    estimated_bytes, memory_limit, parse_memory_size, part_bounds, plan_memory, scan_shot)
+    MEMORY_LIMIT_VARIABLE, ShotSize, _cgroup_room, _meminfo_available,
+    default_steps_per_window, estimated_bytes, memory_limit, parse_memory_size, part_bounds, plan_memory,
+    scan_shot)
 from usdksl.checking.memory_windows import MIN_STEPS_PER_WINDOW
+from usdksl.pipeline.memory_budget import BYTES_PER_TRIANGLE, LOADED_BYTES_PER_VERTEX_SAMPLE, WINDOW_BYTES
 from usdksl.cli.main import main
 from usdksl.errors import UsdkslUsageError
 from usdksl.reading.loader import load_shot
@@ -107,12 +109,13 @@ def test_refusal_is_one_line_with_need_room_and_advice(shots, tmp_path):
 
 def test_a_shot_that_does_not_fit_whole_is_checked_in_shorter_windows_with_the_same_files(shots, tmp_path):
     size = scan_shot(str(shots["large"]))
-    default = estimated_bytes(size, "ksl", 1, DEFAULT_STEPS_PER_WINDOW_PER_THREAD)
+    default_steps = default_steps_per_window(size, "ksl", 1)
+    default = estimated_bytes(size, "ksl", 1, default_steps)
     shortest = estimated_bytes(size, "ksl", 1, MIN_STEPS_PER_WINDOW)
     assert shortest < default, "the shot is long enough for windows to matter"
     limit = (shortest + default) // 2
     plan = plan_memory(size, "ksl", limit, threads=1)
-    assert plan.shortened and MIN_STEPS_PER_WINDOW <= plan.steps_per_window < DEFAULT_STEPS_PER_WINDOW_PER_THREAD
+    assert plan.shortened and MIN_STEPS_PER_WINDOW <= plan.steps_per_window < min(default_steps, size.most_samples)
     assert plan.estimate <= limit
     fitted = CliRunner().invoke(main, ["check", str(shots["large"]), "--out", str(tmp_path / "fitted"), "--threads",
                                        "1", "--memory-limit", str(limit), "-v"])
@@ -123,6 +126,22 @@ def test_a_shot_that_does_not_fit_whole_is_checked_in_shorter_windows_with_the_s
     for name in ("tablecloth_4000_5.contacts.csv", "tablecloth_4000_5.regions.csv",
                  "tablecloth_4000_5.summary.csv"):
         assert (tmp_path / "fitted" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
+
+
+def test_the_default_window_holds_a_gibibyte_of_samples_or_what_the_triangles_take():
+    small = ShotSize(meshes=1, vertex_samples=10_000 * 1000, triangles=20_000, animated_vertices=10_000,
+                     animated_vertex_samples=10_000 * 1000, most_samples=1000)
+    large = ShotSize(meshes=1, vertex_samples=500_000 * 480, triangles=1_000_000, animated_vertices=500_000,
+                     animated_vertex_samples=500_000 * 480, most_samples=480)
+    for size, threads in ((small, 1), (large, 1), (large, 2)):
+        steps = default_steps_per_window(size, "ksl", threads)
+        window = (estimated_bytes(size, "ksl", threads, steps)
+                  - estimated_bytes(ShotSize(triangles=size.triangles), "ksl", threads)
+                  - LOADED_BYTES_PER_VERTEX_SAMPLE * size.vertex_samples)
+        trees = BYTES_PER_TRIANGLE["ksl"] * size.triangles * threads
+        assert window <= max(WINDOW_BYTES, trees) < estimated_bytes(size, "ksl", threads, steps + 2) - (
+            estimated_bytes(size, "ksl", threads, steps) - window), (steps, window)
+    assert default_steps_per_window(ShotSize(meshes=1, vertex_samples=100, triangles=10)) is None, "nothing moves"
 
 
 def test_memory_windows_bound_what_the_core_holds_not_what_the_loader_holds():

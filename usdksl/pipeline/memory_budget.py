@@ -18,8 +18,9 @@ counts the same on its own, reading past whatever the loader would refuse.
   the swept-volume trees of the other methods;
 - a fixed part: modules imported during the check, the stage, the reports.
 
-:func:`plan_memory` picks the window: DEFAULT_STEPS_PER_WINDOW_PER_THREAD sample steps per thread, or a
-shorter one (never under MIN_STEPS_PER_WINDOW) when that would not fit in what is available; it refuses only
+:func:`plan_memory` picks the window: as many sample steps as hold WINDOW_BYTES of the core's points and
+flightplans, or as much as its trees and lists take when that is more (so the window adds at most what the
+triangles cost already), or a shorter one (never under MIN_STEPS_PER_WINDOW) when that would not fit in what is available; it refuses only
 when even the shortest window does not fit.
 
 Contacts cost on top (reports, override layer; about a kilobyte per contacting triangle pair), which
@@ -63,11 +64,11 @@ BYTES_PER_VERTEX_SAMPLE = {"ksl": 250, "swept": 120, "discrete": 120, "brute": 1
 #: Of BYTES_PER_VERTEX_SAMPLE, what the loader holds for the whole checked range (float64 points, 24 B,
 #: plus their share of its per-mesh arrays); the rest is the core's, held for one memory window.
 LOADED_BYTES_PER_VERTEX_SAMPLE = 32
-#: Sample steps per thread of a memory window, unless memory asks for shorter ones (or --window says):
-#: the core's own time windows then each span a few dozen steps, so starting each memory window afresh
-#: costs little (benchmarks/production_shot.py measures it), while the core holds about as much for its
-#: points and flightplans as for its trees and lists.
-DEFAULT_STEPS_PER_WINDOW_PER_THREAD = 32
+#: Memory of the core's points and flightplans in one memory window, unless its trees and lists take more
+#: (then as much as they do) or memory asks for less: each window is checked afresh (its front is built
+#: again and the contacts still going on where it begins are found and confirmed again), so a window as long
+#: as memory allows costs least; 1 GiB keeps the windows of a 100k-triangle shot about 60 samples long.
+WINDOW_BYTES = 2 ** 30
 BYTES_PER_TRIANGLE = {"ksl": 2600, "swept": 450, "discrete": 450, "brute": 450}
 FIXED_BYTES = 6 * 2 ** 20
 
@@ -274,9 +275,17 @@ def estimated_bytes(size: ShotSize, method: str = "ksl", threads: int = 1,
                * max(int(threads), 1))
 
 
-def default_steps_per_window(threads: int) -> int:
-    """Sample steps of a memory window when memory does not ask for shorter ones."""
-    return DEFAULT_STEPS_PER_WINDOW_PER_THREAD * max(int(threads), 1)
+def default_steps_per_window(size: ShotSize, method: str = "ksl", threads: int = 1) -> Optional[int]:
+    """Sample steps of a memory window when memory does not ask for fewer (module docstring); None when the
+    shot has no animated vertex to cut."""
+    per_vertex_sample = BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
+    core = per_vertex_sample - min(LOADED_BYTES_PER_VERTEX_SAMPLE, per_vertex_sample)
+    if not size.animated_vertices or core <= 0:
+        return None
+    trees = BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles * max(int(threads), 1)
+    from ..checking.memory_windows import MIN_STEPS_PER_WINDOW
+
+    return max(MIN_STEPS_PER_WINDOW, int(max(WINDOW_BYTES, trees) // (core * size.animated_vertices)) - 1)
 
 
 def part_bounds(span: TimeRange, parts: int, shared_samples: Optional[np.ndarray]) -> List[float]:
@@ -310,8 +319,8 @@ def plan_memory(size: ShotSize, method: str, limit: Optional[int], file: Optiona
     given one does not): the line says how much is needed and there is, and how to split the work."""
     from ..checking.memory_windows import MIN_STEPS_PER_WINDOW
 
-    steps = default_steps_per_window(threads) if steps_per_window is None else max(int(steps_per_window),
-                                                                                   MIN_STEPS_PER_WINDOW)
+    steps = (default_steps_per_window(size, method, threads) if steps_per_window is None
+             else max(int(steps_per_window), MIN_STEPS_PER_WINDOW))
     needed = estimated_bytes(size, method, threads, steps)
     if limit is None or needed <= limit:
         return MemoryPlan(steps, needed)
