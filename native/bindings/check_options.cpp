@@ -4,6 +4,7 @@
 
 #include "usdksl/scene/check_options.hpp"
 
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <stdexcept>
@@ -97,5 +98,23 @@ void define_check_options(py::module_& m) {
                        "Discrete method only: static tests per step (1 = at samples only).")
         .def_readwrite("threads", &CheckOptions::threads,
                        "Threads (<= 0: every hardware thread); the answer does not depend on the count.")
+        .def(
+            "settle",
+            [](CheckOptions& options, const py::array_t<int32_t, py::array::c_style | py::array::forcecast>& pairs) {
+                if (pairs.ndim() != 2 || pairs.shape(1) != 4)
+                    throw std::invalid_argument("settled pairs must be an (N, 4) array of mesh_a, tri_a, mesh_b, tri_b");
+                const auto rows = pairs.unchecked<2>();
+                options.settled_pairs.clear();
+                options.settled_pairs.reserve(static_cast<size_t>(rows.shape(0)));
+                for (py::ssize_t i = 0; i < rows.shape(0); ++i) {
+                    options.settled_pairs.push_back({rows(i, 0), rows(i, 1), rows(i, 2), rows(i, 3)});
+                }
+            },
+            py::arg("pairs"),
+            "Triangle pairs (N, 4: mesh_a, tri_a, mesh_b, tri_b) whose first contact a run over an earlier range "
+            "found, at or before t_begin: not tested again (brute force tests them all the same).")
+        .def_property_readonly(
+            "settled_count", [](const CheckOptions& options) { return options.settled_pairs.size(); },
+            "How many triangle pairs settle() left alone.")
         .def("__repr__", &describe);
 }

@@ -138,3 +138,31 @@ def test_a_window_shorter_than_the_minimum_is_a_usage_error(tmp_path):
     result = CliRunner().invoke(main, ["check", str(SAMPLES / "fold.usda"), "--out", str(tmp_path / "x"),
                                        "--window", str(MIN_STEPS_PER_WINDOW - 1)])
     assert result.exit_code == 2 and not (tmp_path / "x").exists()
+
+
+def test_a_window_leaves_alone_the_pairs_found_before_it_and_confirms_each_once():
+    """The cloth rests on the slab across every cut: its pairs are confirmed once, in the window that
+    first finds them, not again in each later one."""
+    meshes = per_frame_cloth()
+    pairs = [(0, 0), (0, 1)]
+    whole = find_contacts(meshes, pairs, threads=1)
+    windowed = find_contacts(meshes, pairs, threads=1, steps_per_window=MIN_STEPS_PER_WINDOW)
+    assert windowed.counters[MEMORY_WINDOWS_COUNTER] >= 3
+    assert windowed.counters["raw_confirmations"] == whole.counters["raw_confirmations"]
+    assert_same_rows(windowed, whole, "settled")
+
+
+def test_settled_pairs_are_not_found_again_and_out_of_range_ones_are_refused():
+    meshes = per_frame_cloth()
+    pairs = [(0, 0), (0, 1)]
+    whole = find_contacts(meshes, pairs)
+    settled = np.stack([whole.mesh_a, whole.tri_a, whole.mesh_b, whole.tri_b], axis=1)[::2]
+    rest = find_contacts(meshes, pairs, settled=settled)
+    assert len(rest) == len(whole) - len(settled)
+    kept = np.ones(len(whole), bool)
+    kept[::2] = False
+    assert rest.time.tobytes() == whole.time[kept].tobytes()
+    # the reference tests every pair itself
+    assert len(find_contacts(meshes, pairs, method="brute", settled=settled)) == len(whole)
+    with pytest.raises(ValueError, match="out of range"):
+        find_contacts(meshes, pairs, settled=np.array([[0, 10 ** 6, 1, 0]]))

@@ -73,7 +73,8 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
                   thickness: float = DEFAULT_THICKNESS, max_iterations: int = DEFAULT_MAX_ITERATIONS,
                   discrete_substeps: int = 1,
                   progress: Optional[Callable[[float, int], None]] = None,
-                  threads: Optional[int] = None, steps_per_window: Optional[int] = None) -> CollisionResult:
+                  threads: Optional[int] = None, steps_per_window: Optional[int] = None,
+                  settled: Optional[np.ndarray] = None) -> CollisionResult:
     """First contact of every triangle pair of the given mesh pairs ((i, i) is a self check).
 
     ``meshes`` are loader MeshData (or anything with times, points, triangles,
@@ -85,6 +86,9 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
     ``steps_per_window`` (None: the whole range at once) hands the core the range in memory windows of
     about that many sample steps, one after another (usdksl.checking.memory_windows), so that it holds
     one window of the samples at a time; the result is identical for any value.
+    ``settled`` (int32[N, 4]: mesh_a, tri_a, mesh_b, tri_b) are triangle pairs whose first contact is known to
+    come at or before the range start (a run over an earlier range found them): the core does not look for
+    them again, and they are not in the result.
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}")
@@ -111,6 +115,8 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
     options = _native.CheckOptions(method=method, t_begin=t_begin, t_end=t_end, tolerance=float(tolerance),
                                    thickness=float(thickness), max_iterations=int(max_iterations),
                                    discrete_substeps=int(discrete_substeps), threads=int(threads))
+    if settled is not None and len(settled):
+        options.settle(np.ascontiguousarray(settled, dtype=np.int32).reshape(-1, 4))
     raw = _native.find_contacts(native_meshes, pair_array, options, progress)
     time = raw["time"]
     columns = {name: raw[name] for name in ("mesh_a", "tri_a", "mesh_b", "tri_b", "feature", "undecided")}
@@ -124,17 +130,27 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
     return CollisionResult(time=time, counters=dict(raw["counters"]), **columns)
 
 
+def found_pairs(results: Sequence[CollisionResult]) -> np.ndarray:
+    """int32[N, 4]: the triangle pairs (mesh_a, tri_a, mesh_b, tri_b) that ``results`` found."""
+    if not results:
+        return np.zeros((0, 4), np.int32)
+    return np.stack([np.concatenate([getattr(result, name) for result in results]).astype(np.int32)
+                     for name in ("mesh_a", "tri_a", "mesh_b", "tri_b")], axis=1)
+
+
 def _find_contacts_in_windows(meshes: Sequence, pair_array: np.ndarray, windows: Sequence[Tuple[float, float]],
                               progress: Optional[Callable[[float, int], None]], settings: dict) -> CollisionResult:
     """find_contacts over consecutive ``windows``, each with the meshes' samples inside it only, joined as
-    the core joins its own time windows: the earliest row per triangle pair (the earlier window on a tie)."""
+    the core joins its own time windows: the earliest row per triangle pair (the earlier window on a tie).
+    A window leaves alone the pairs the windows before it found (their first contacts come first), so a
+    contact that goes on across a cut is found and confirmed once."""
     parts: List[CollisionResult] = []
     found_before = 0
     for window in windows:
         report = None if progress is None else (
             lambda reached, count, before=found_before: progress(reached, before + count))
         part = find_contacts([window_of(mesh, window) for mesh in meshes], pair_array, time_range=window,
-                             progress=report, **settings)
+                             progress=report, settled=found_pairs(parts), **settings)
         parts.append(part)
         found_before += len(part)
     names = ("time", "mesh_a", "tri_a", "mesh_b", "tri_b", "feature", "undecided")

@@ -21,7 +21,7 @@ from typing import Callable, Optional, Sequence, Tuple
 import numpy as np
 
 from ..contacts.table import ContactTable, latest_per_face_pair, match_face_pairs
-from .collision import find_contacts
+from .collision import find_contacts, found_pairs
 from .memory_windows import plan_memory_windows, window_of
 
 TimeRange = Tuple[float, float]
@@ -67,13 +67,17 @@ def last_contacts(meshes: Sequence, pairs: np.ndarray, table: ContactTable, time
     windows = plan_memory_windows(meshes, np.asarray(pairs).reshape(-1, 2).tolist(), (start, end),
                                   steps_per_window)
     pieces = []
+    results = []
     found_before = 0
     for window in reversed(windows):
         backwards = [reversed_mesh(window_of(mesh, window)) for mesh in meshes]
         report = None if progress is None else (
             lambda reached, count, before=found_before: progress(reached, before + count))
+        # pairs a later window (earlier in reversed time) found have their last contact there
         result = find_contacts(backwards, pairs, method=method, time_range=(-window[1], -window[0]),
-                               tolerance=tolerance, thickness=thickness, progress=report, threads=threads)
+                               tolerance=tolerance, thickness=thickness, progress=report, threads=threads,
+                               settled=found_pairs(results))
+        results.append(result)
         pieces.append(result.face_contacts(backwards))
         found_before += len(result)
     if len(pieces) == 1:

@@ -51,6 +51,15 @@ void validate(const std::vector<MeshAnimation>& meshes, const std::vector<std::p
             throw std::invalid_argument("mesh pair index out of range");
         }
     }
+    const auto triangle_in_range = [&](int32_t mesh, int32_t tri) {
+        return mesh >= 0 && mesh < static_cast<int32_t>(meshes.size()) && tri >= 0 &&
+               tri < static_cast<int32_t>(meshes[static_cast<size_t>(mesh)].triangles.size());
+    };
+    for (const auto& [mesh_a, tri_a, mesh_b, tri_b] : options.settled_pairs) {
+        if (!triangle_in_range(mesh_a, tri_a) || !triangle_in_range(mesh_b, tri_b)) {
+            throw std::invalid_argument("settled triangle pair out of range");
+        }
+    }
 }
 
 /// Time windows per thread planned for a method that cannot cut a running
@@ -221,6 +230,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         result.counters.time_windows = 1;
         TrianglePairTester tester(scene, options.ccd, result.counters);
         if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
+        if (options.method != Method::BruteForce) tester.settle(options.settled_pairs);
         run_method(scene, mesh_pairs, options, tester, result.counters);
         // The discrete baseline answers at sampled instants; it stays what it is, misses included.
         // Candidates are confirmed in the order they were found (the
@@ -256,7 +266,10 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
         window_options.progress = progress.for_window(window);
         TrianglePairTester tester(local, options.ccd, window.counters);
         if (merge) tester.carry_confirmations(confirming(options.ccd).tolerance);
-        if (share_findings) tester.share_findings(findings, findings.join(window.begin));
+        if (share_findings) {
+            tester.settle(options.settled_pairs);
+            tester.share_findings(findings, findings.join(window.begin));
+        }
         run_method(local, mesh_pairs, window_options, tester, window.counters, &window.stop);
         window.candidates = tester.sorted_contacts();
     }, [&]() {

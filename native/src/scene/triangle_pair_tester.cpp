@@ -73,6 +73,10 @@ bool TrianglePairTester::settled(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, 
     return found_.count(k) != 0 || (!found_earlier_.empty() && found_earlier_.count(k) != 0);
 }
 
+void TrianglePairTester::settle(const std::vector<std::array<int32_t, 4>>& pairs) {
+    for (const auto& [mesh_a, tri_a, mesh_b, tri_b] : pairs) found_earlier_.insert(key(mesh_a, tri_a, mesh_b, tri_b));
+}
+
 void TrianglePairTester::share_findings(WindowFindings& findings, int32_t slot) {
     findings_ = &findings;
     findings_slot_ = slot;

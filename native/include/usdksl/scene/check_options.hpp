@@ -5,8 +5,10 @@
 
 #include "usdksl/ccd/ccd_settings.hpp"
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace usdksl {
 
@@ -39,6 +41,14 @@ struct CheckOptions {
     ///        into time windows checked in parallel; the contacts are the same
     ///        bit for bit whatever the count.
     int32_t threads = 1;
+    /// @brief Triangle pairs (mesh_a, tri_a, mesh_b, tri_b, in either order)
+    ///        whose first contact is known to come at or before t_begin: a run
+    ///        over an earlier range found them. They are not tested again: a
+    ///        run over [b, c] given the pairs a run over [a, b] found, merged
+    ///        with that run, still equals the run over [a, c], without finding
+    ///        again every contact that goes on across b (cloth resting on a
+    ///        collider). Brute force, the reference, tests them all the same.
+    std::vector<std::array<int32_t, 4>> settled_pairs;
     /// @brief Called with (time code reached, contacts so far); with several
     ///        threads, calls are serialized and the time is the start of the
     ///        range plus the total time covered by all windows.

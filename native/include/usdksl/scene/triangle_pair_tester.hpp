@@ -94,6 +94,10 @@ public:
     /// @brief Static test at time code t; records an Initial contact at t and returns true on contact.
     bool test_static(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, double t);
 
+    /// @brief Leaves alone `pairs` (mesh_a, tri_a, mesh_b, tri_b, either
+    ///        order), whose first contacts a run over an earlier range found
+    ///        (CheckOptions::settled_pairs), as pairs earlier windows found.
+    void settle(const std::vector<std::array<int32_t, 4>>& pairs);
     /// @brief From now on, exchange_findings() publishes the pairs this
     ///        tester finds as the window in `slot` of `findings`, and takes
     ///        the pairs that windows beginning earlier found: settled here
