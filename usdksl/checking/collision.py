@@ -160,7 +160,7 @@ def _find_contacts_in_windows(meshes: Sequence, pair_array: np.ndarray, windows:
                           joined["mesh_a"]))
     key = [joined[name][by_pair] for name in ("mesh_a", "tri_a", "mesh_b", "tri_b")]
     first = np.ones(by_pair.size, bool)
-    first[1:] = np.any([column[1:] != column[:-1] for column in key], axis=0) if by_pair.size > 1 else True
+    first[1:] = np.any([column[1:] != column[:-1] for column in key], axis=0)
     kept = by_pair[first]
     kept = kept[_row_order(*(joined[name][kept] for name in ("time", "mesh_a", "tri_a", "mesh_b", "tri_b")))]
     counters: Dict[str, int] = {}
