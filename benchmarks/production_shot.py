@@ -47,7 +47,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(REPO, "samples"))
-from generate import tube  # noqa: E402
+from generate import capsule_faces, tube  # noqa: E402
 from shotwriter import define_mesh, new_stage, smoothstep  # noqa: E402
 
 from harness import MIB, Build, byte_compile_usdksl, load_average, run  # noqa: E402
@@ -168,17 +168,7 @@ def closed_capsule(radius: float, half_length: float, segments: int, rings: int)
     ring_radius = np.concatenate([np.repeat(radii, segments), [0.0, 0.0]])
     height = np.concatenate([np.repeat(heights, segments), [half_length + radius, -half_length - radius]])
     points = np.stack([ring_radius * np.cos(angle), height, ring_radius * np.sin(angle)], axis=1)
-    top_index, bottom_index = rings * segments, rings * segments + 1
-    column = np.arange(segments)
-    following = (column + 1) % segments
-    top_fan = np.stack([np.full(segments, top_index), following, column], axis=1)
-    ring = np.arange(rings - 1)[:, None]
-    quads = np.stack([ring * segments + column, ring * segments + following,
-                      (ring + 1) * segments + following, (ring + 1) * segments + column], axis=2).reshape(-1, 4)
-    last = (rings - 1) * segments
-    bottom_fan = np.stack([np.full(segments, bottom_index), last + column, last + following], axis=1)
-    counts = np.concatenate([np.full(segments, 3), np.full(len(quads), 4), np.full(segments, 3)]).astype(np.int32)
-    indices = np.concatenate([top_fan.ravel(), quads.ravel(), bottom_fan.ravel()]).astype(np.int32)
+    counts, indices = capsule_faces(segments, rings)
     return points, counts, indices, angle, ring_radius
 
 

@@ -200,7 +200,14 @@ def capsule(radius: float, half_length: float, segments: int, rings: int):
     top = np.array([[0.0, half_length + radius, 0.0]])
     bottom = np.array([[0.0, -half_length - radius, 0.0]])
     points = np.concatenate([ring_points, top, bottom])
-    ring_count = heights.size
+    counts, indices = capsule_faces(segments, heights.size)
+    return points, counts, indices
+
+
+def capsule_faces(segments: int, ring_count: int):
+    """(counts, indices) int32 of a closed surface of ``ring_count`` rings of ``segments`` points (ring by
+    ring from the top, then the top and the bottom pole): quads between rings, triangle fans at the poles,
+    outward facing."""
     top_index, bottom_index = ring_count * segments, ring_count * segments + 1
     s = np.arange(segments)
     s_next = (s + 1) % segments
@@ -212,7 +219,7 @@ def capsule(radius: float, half_length: float, segments: int, rings: int):
     bottom_fan = np.stack([np.full(segments, bottom_index), last + s, last + s_next], axis=1)
     counts = np.concatenate([np.full(segments, 3), np.full(len(quads), 4), np.full(segments, 3)])
     indices = np.concatenate([top_fan.ravel(), quads.ravel(), bottom_fan.ravel()])
-    return points, counts.astype(np.int32), indices.astype(np.int32)
+    return counts.astype(np.int32), indices.astype(np.int32)
 
 
 def capsule_triangles(segments: int, rings: int) -> int:
