@@ -19,12 +19,17 @@ namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+using FloatArray = py::array_t<float, py::array::c_style>;
 
 MeshAnimation to_mesh(const py::handle& item, size_t index) {
     const py::tuple t = py::reinterpret_borrow<py::tuple>(item);
     if (t.size() != 4) throw std::invalid_argument("mesh must be (times, points, triangles, triangle_face)");
     const DoubleArray times = t[0].cast<DoubleArray>();
-    const DoubleArray points = t[1].cast<DoubleArray>();
+    // float points (a loader's authored world-space points) are widened as they are copied, with no
+    // double copy of them made first; anything else is read as doubles
+    const bool single = py::isinstance<FloatArray>(t[1]) &&
+                        (py::reinterpret_borrow<py::array>(t[1]).flags() & py::array::c_style);
+    const py::array points = single ? py::array(t[1].cast<FloatArray>()) : py::array(t[1].cast<DoubleArray>());
     const IntArray triangles = t[2].cast<IntArray>();
     const IntArray faces = t[3].cast<IntArray>();
     const std::string where = "mesh " + std::to_string(index) + ": ";
@@ -36,7 +41,13 @@ MeshAnimation to_mesh(const py::handle& item, size_t index) {
         throw std::invalid_argument(where + "triangle_face must have one entry per triangle");
     MeshAnimation mesh;
     mesh.times.assign(times.data(), times.data() + times.size());
-    mesh.points.assign(points.data(), points.data() + points.size());
+    if (single) {
+        const float* data = static_cast<const float*>(points.data());
+        mesh.points.assign(data, data + points.size());
+    } else {
+        const double* data = static_cast<const double*>(points.data());
+        mesh.points.assign(data, data + points.size());
+    }
     mesh.vertex_count = static_cast<int32_t>(points.shape(1));
     mesh.triangles.resize(static_cast<size_t>(triangles.shape(0)));
     std::memcpy(mesh.triangles.data(), triangles.data(), sizeof(int32_t) * static_cast<size_t>(triangles.size()));

@@ -429,3 +429,15 @@ def test_authored_float_points_in_world_space_are_kept_as_they_are_in_half_the_m
         assert in_place.points[k].tobytes() == authored.tobytes()
         assert np.array_equal(moved.points[k], authored.astype(np.float64) + [0.1, 0, 0])
     assert in_place.points.nbytes * 2 == moved.points.nbytes
+
+
+def test_samples_alike_are_compared_block_by_block_to_the_last_sample(monkeypatch):
+    from usdksl.reading import positions
+
+    monkeypatch.setattr(positions, "SAMPLE_BLOCK_VALUES", 7 * 3 * 2)   # two samples of 7 points per block
+    still = np.repeat(np.random.default_rng(1).normal(size=(1, 7, 3)), 9, axis=0).astype(np.float32)
+    assert positions.samples_all_alike(still) and positions.samples_all_alike(still[:1])
+    for sample in (1, 2, 8):
+        moved = still.copy()
+        moved[sample, 6, 2] = np.nextafter(moved[sample, 6, 2], np.float32(np.inf))
+        assert not positions.samples_all_alike(moved), sample

@@ -108,8 +108,10 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
                                          dict(method=method, tolerance=tolerance, thickness=thickness,
                                               max_iterations=max_iterations, discrete_substeps=discrete_substeps,
                                               threads=threads))
+    # float32 points (the loader's authored world-space points) are widened by the core as it copies them
     native_meshes = [
-        (np.ascontiguousarray(m.times, dtype=np.float64), np.ascontiguousarray(m.points, dtype=np.float64),
+        (np.ascontiguousarray(m.times, dtype=np.float64),
+         np.ascontiguousarray(m.points, dtype=np.float32 if m.points.dtype == np.float32 else np.float64),
          np.ascontiguousarray(m.triangles, dtype=np.int32), np.ascontiguousarray(m.triangle_face, dtype=np.int32))
         for m in meshes]
     options = _native.CheckOptions(method=method, t_begin=t_begin, t_end=t_end, tolerance=float(tolerance),

@@ -17,6 +17,7 @@ from pxr import Sdf, Usd, UsdGeom
 
 from ..errors import UsdkslEmptyMeshError, UsdkslInputError
 from ..unmasked import distinct_sorted
+from .positions import samples_all_alike
 from .triangulate import fan_triangulate
 
 STATIC = "static"
@@ -411,7 +412,7 @@ def classified_mesh(path: str, times: np.ndarray, points: np.ndarray, local_cons
                     topology: MeshTopology, **identity) -> MeshData:
     """MeshData with its kind: static when no world point ever changes (collapsed to the first sample),
     rigid when only the transform moves it (``local_constant``), deforming otherwise."""
-    if bool(np.all(points == points[:1])):
+    if samples_all_alike(points):
         kind = STATIC
         points = np.ascontiguousarray(points[:1])  # frees the other samples
         times = times[:1].copy()

@@ -36,6 +36,8 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .positions import samples_all_alike
+
 # Reasons a mesh is left out (mesh level).
 MESH_EXCLUDED_BY_PATTERN = "excluded by --prims/--exclude"
 MESH_COLLISION_DISABLED = "physics:collisionEnabled = false"
@@ -169,7 +171,7 @@ def mesh_moves(points: np.ndarray) -> bool:
     points = np.asarray(points)
     if points.ndim != 3 or points.shape[0] < 2:
         return False
-    return not bool(np.all(points == points[:1]))
+    return not samples_all_alike(points)
 
 
 def pattern_mask(paths: Sequence[str], include: Sequence[str], exclude: Sequence[str]) -> np.ndarray:
