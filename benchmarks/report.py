@@ -60,7 +60,10 @@ RESULT_PAGES = (("newton.md", "Newton simulator caches (benchmarks/newton_bench.
                 ("batch_scaling.md", "Batches and long shots on Dask (benchmarks/batch_scaling.py)"),
                 ("findings_cost.md", "What regions, depth and the report cost (benchmarks/findings_cost.py)"),
                 ("discrete_embree.md", "Continuous against a per-frame discrete Embree check (benchmarks/discrete_embree.py)"),
-                ("densify.md", "The same motion sampled ten times denser (benchmarks/densify.py)"))
+                ("densify.md", "The same motion sampled ten times denser (benchmarks/densify.py)"),
+                ("production_shot.md",
+                 "A production-like shot, 240 and 480 frames: memory set by a window (benchmarks/production_shot.py)"),
+                ("production_shot_1m.md", "1M triangles x 480 frames (benchmarks/production_shot.py)"))
 #: Headings of the page's own sections.
 ACCURACY_HEADING = "What accuracy costs in time: KSL against every method (benchmarks/run.py)"
 PER_SHOT_HEADING = "Accuracy and time per shot (benchmarks/run.py)"
