@@ -1,6 +1,8 @@
 /// @file collision.cpp
 /// @brief Binds find_contacts: numpy arrays and a CheckOptions (check_options.cpp) in, numpy arrays out.
 
+#include "mesh_arrays.hpp"
+
 #include "usdksl/collision/check.hpp"
 
 #include <pybind11/functional.h>
@@ -19,39 +21,24 @@ namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
-using FloatArray = py::array_t<float, py::array::c_style>;
 
 MeshAnimation to_mesh(const py::handle& item, size_t index) {
-    const py::tuple t = py::reinterpret_borrow<py::tuple>(item);
-    if (t.size() != 4) throw std::invalid_argument("mesh must be (times, points, triangles, triangle_face)");
-    const DoubleArray times = t[0].cast<DoubleArray>();
-    // float points (a loader's authored world-space points) are widened as they are copied, with no
-    // double copy of them made first; anything else is read as doubles
-    const bool single = py::isinstance<FloatArray>(t[1]) &&
-                        (py::reinterpret_borrow<py::array>(t[1]).flags() & py::array::c_style);
-    const py::array points = single ? py::array(t[1].cast<FloatArray>()) : py::array(t[1].cast<DoubleArray>());
-    const IntArray triangles = t[2].cast<IntArray>();
-    const IntArray faces = t[3].cast<IntArray>();
-    const std::string where = "mesh " + std::to_string(index) + ": ";
-    if (times.ndim() != 1) throw std::invalid_argument(where + "times must be 1-D");
-    if (points.ndim() != 3 || points.shape(0) != times.shape(0) || points.shape(2) != 3)
-        throw std::invalid_argument(where + "points must have shape (len(times), N, 3)");
-    if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw std::invalid_argument(where + "triangles must be (M, 3)");
-    if (faces.ndim() != 1 || faces.shape(0) != triangles.shape(0))
-        throw std::invalid_argument(where + "triangle_face must have one entry per triangle");
+    const MeshArrays arrays = read_mesh_arrays(item, index, false);
     MeshAnimation mesh;
-    mesh.times.assign(times.data(), times.data() + times.size());
-    if (single) {
-        const float* data = static_cast<const float*>(points.data());
-        mesh.points.assign(data, data + points.size());
+    mesh.times.assign(arrays.times.data(), arrays.times.data() + arrays.times.size());
+    // float points are widened as they are copied
+    if (arrays.float_points) {
+        const float* data = static_cast<const float*>(arrays.points.data());
+        mesh.points.assign(data, data + arrays.points.size());
     } else {
-        const double* data = static_cast<const double*>(points.data());
-        mesh.points.assign(data, data + points.size());
+        const double* data = static_cast<const double*>(arrays.points.data());
+        mesh.points.assign(data, data + arrays.points.size());
     }
-    mesh.vertex_count = static_cast<int32_t>(points.shape(1));
-    mesh.triangles.resize(static_cast<size_t>(triangles.shape(0)));
-    std::memcpy(mesh.triangles.data(), triangles.data(), sizeof(int32_t) * static_cast<size_t>(triangles.size()));
-    mesh.triangle_face.assign(faces.data(), faces.data() + faces.size());
+    mesh.vertex_count = arrays.vertex_count();
+    mesh.triangles.resize(static_cast<size_t>(arrays.triangles.shape(0)));
+    std::memcpy(mesh.triangles.data(), arrays.triangles.data(),
+                sizeof(int32_t) * static_cast<size_t>(arrays.triangles.size()));
+    mesh.triangle_face.assign(arrays.triangle_face.data(), arrays.triangle_face.data() + arrays.triangle_face.size());
     return mesh;
 }
 

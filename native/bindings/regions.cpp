@@ -3,6 +3,8 @@
 ///        depth samples of the regions, numpy arrays in (read in place), numpy
 ///        arrays out, the GIL released while the core works.
 
+#include "mesh_arrays.hpp"
+
 #include "usdksl/regions/inside_depth.hpp"
 #include "usdksl/regions/region_depths.hpp"
 #include "usdksl/regions/region_grouping.hpp"
@@ -21,47 +23,30 @@ using namespace usdksl;
 namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using FloatArray = py::array_t<float, py::array::c_style>;
 using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
 using BoolArray = py::array_t<bool, py::array::c_style | py::array::forcecast>;
 
 /// The arrays the views point into, kept alive for the call.
 struct HeldMeshes {
     std::vector<MeshView> views;
-    std::vector<py::array> held;
+    std::vector<MeshArrays> held;
 };
 
 HeldMeshes hold_meshes(const py::list& meshes_in) {
     HeldMeshes out;
     for (size_t i = 0; i < meshes_in.size(); ++i) {
-        const py::tuple t = py::reinterpret_borrow<py::tuple>(meshes_in[i]);
-        if (t.size() != 4) throw std::invalid_argument("mesh must be (times, points, triangles, triangle_face)");
-        const DoubleArray times = t[0].cast<DoubleArray>();
-        // float points are read in place as they are (a loader's authored world-space points); anything
-        // else as doubles
-        const bool single = py::isinstance<FloatArray>(t[1]) &&
-                            (py::reinterpret_borrow<py::array>(t[1]).flags() & py::array::c_style);
-        const py::array points = single ? py::array(t[1].cast<FloatArray>()) : py::array(t[1].cast<DoubleArray>());
-        const IntArray triangles = t[2].cast<IntArray>();
-        const IntArray faces = t[3].cast<IntArray>();
-        const std::string where = "mesh " + std::to_string(i) + ": ";
-        if (times.ndim() != 1 || times.shape(0) < 1) throw std::invalid_argument(where + "times must be 1-D, not empty");
-        if (points.ndim() != 3 || points.shape(0) != times.shape(0) || points.shape(2) != 3)
-            throw std::invalid_argument(where + "points must have shape (len(times), N, 3)");
-        if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw std::invalid_argument(where + "triangles must be (M, 3)");
-        if (faces.ndim() != 1 || faces.shape(0) != triangles.shape(0))
-            throw std::invalid_argument(where + "triangle_face must have one entry per triangle");
+        MeshArrays arrays = read_mesh_arrays(meshes_in[i], i, true);
         MeshView view;
-        view.times = times.data();
-        view.sample_count = static_cast<int32_t>(times.shape(0));
-        if (single) view.points_float = static_cast<const float*>(points.data());
-        else view.points = static_cast<const double*>(points.data());
-        view.vertex_count = static_cast<int32_t>(points.shape(1));
-        view.triangles = triangles.data();
-        view.triangle_count = static_cast<int32_t>(triangles.shape(0));
-        view.triangle_face = faces.data();
+        view.times = arrays.times.data();
+        view.sample_count = static_cast<int32_t>(arrays.times.shape(0));
+        if (arrays.float_points) view.points_float = static_cast<const float*>(arrays.points.data());
+        else view.points = static_cast<const double*>(arrays.points.data());
+        view.vertex_count = arrays.vertex_count();
+        view.triangles = arrays.triangles.data();
+        view.triangle_count = static_cast<int32_t>(arrays.triangles.shape(0));
+        view.triangle_face = arrays.triangle_face.data();
         out.views.push_back(view);
-        out.held.insert(out.held.end(), {times, points, triangles, faces});
+        out.held.push_back(std::move(arrays));
     }
     return out;
 }

@@ -33,6 +33,16 @@ def default_threads() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def mesh_arrays(meshes: Sequence) -> List[tuple]:
+    """(times, points, triangles, triangle_face) per mesh, as every binding of the core reads a mesh (no copy
+    when the arrays already have its dtypes and layout; float32 points, as the loader keeps authored
+    world-space points, are read as the same doubles without a float64 copy)."""
+    return [(np.ascontiguousarray(m.times, dtype=np.float64),
+             np.ascontiguousarray(m.points, dtype=np.float32 if m.points.dtype == np.float32 else np.float64),
+             np.ascontiguousarray(m.triangles, dtype=np.int32), np.ascontiguousarray(m.triangle_face, dtype=np.int32))
+            for m in meshes]
+
+
 def _row_order(time, mesh_a, face_a, mesh_b, face_b) -> np.ndarray:
     return np.lexsort((face_b, mesh_b, face_a, mesh_a, time))
 
@@ -108,12 +118,7 @@ def find_contacts(meshes: Sequence, pairs: Iterable[Tuple[int, int]], method: st
                                          dict(method=method, tolerance=tolerance, thickness=thickness,
                                               max_iterations=max_iterations, discrete_substeps=discrete_substeps,
                                               threads=threads))
-    # float32 points (the loader's authored world-space points) are widened by the core as it copies them
-    native_meshes = [
-        (np.ascontiguousarray(m.times, dtype=np.float64),
-         np.ascontiguousarray(m.points, dtype=np.float32 if m.points.dtype == np.float32 else np.float64),
-         np.ascontiguousarray(m.triangles, dtype=np.int32), np.ascontiguousarray(m.triangle_face, dtype=np.int32))
-        for m in meshes]
+    native_meshes = mesh_arrays(meshes)
     options = _native.CheckOptions(method=method, t_begin=t_begin, t_end=t_end, tolerance=float(tolerance),
                                    thickness=float(thickness), max_iterations=int(max_iterations),
                                    discrete_substeps=int(discrete_substeps), threads=int(threads))

@@ -30,8 +30,8 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _native
-from ..checking.collision import default_threads
-from .grouping import Grouping, contact_columns, mesh_arrays
+from ..checking.collision import default_threads, mesh_arrays
+from .grouping import Grouping, contact_columns
 from .table import DepthSamples
 
 #: Accuracy of the penetration depth, as a fraction of the longest edge of the penetrating triangle where the

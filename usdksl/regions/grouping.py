@@ -25,12 +25,12 @@ in span order, join the row that reaches furthest so far: no pair of rows is com
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
 from .. import _native
-from ..checking.collision import default_threads
+from ..checking.collision import default_threads, mesh_arrays
 
 
 @dataclass
@@ -41,16 +41,6 @@ class Grouping:
     region_count: int
     row_last_sampled: np.ndarray  # float64[C]: last sample still in contact (time codes); a graze's own time
     row_span: np.ndarray          # int32[C, 2]: first and last sample index (into sample_times) of the row's span
-
-
-def mesh_arrays(meshes: Sequence) -> List[tuple]:
-    """(times, points, triangles, triangle_face) per mesh, as the core reads them (no copy when the arrays
-    already have its dtypes and layout; float32 points, as the loader keeps authored world-space points, are
-    read in place as the same doubles)."""
-    return [(np.ascontiguousarray(m.times, dtype=np.float64),
-             np.ascontiguousarray(m.points, dtype=np.float32 if m.points.dtype == np.float32 else np.float64),
-             np.ascontiguousarray(m.triangles, dtype=np.int32), np.ascontiguousarray(m.triangle_face, dtype=np.int32))
-            for m in meshes]
 
 
 def contact_columns(table) -> tuple:
