@@ -20,8 +20,8 @@ counts the same on its own, reading past whatever the loader would refuse.
 
 :func:`plan_memory` picks the window: as many sample steps as hold WINDOW_BYTES of the core's points and
 flightplans, or as much as its trees and lists take when that is more (so the window adds at most what the
-triangles cost already), or a shorter one (never under MIN_STEPS_PER_WINDOW) when that would not fit in what is available; it refuses only
-when even the shortest window does not fit.
+triangles cost already), or a shorter one (never under MIN_STEPS_PER_WINDOW) when that would not fit in
+what is available; it refuses only when even the shortest window does not fit.
 
 Contacts cost on top (reports, override layer; about a kilobyte per contacting triangle pair), which
 no scan can know: shots in heavy self contact can need more than the estimate.
@@ -42,6 +42,7 @@ from typing import Callable, Iterable, List, Optional, Tuple, Union
 
 import numpy as np
 
+from ..checking.memory_windows import MIN_STEPS_PER_WINDOW
 from ..errors import UsdkslUsageError
 
 #: Environment variable with the memory a check may use (same values as ``--memory-limit``).
@@ -262,30 +263,37 @@ def window_vertex_samples(size: ShotSize, steps_per_window: Optional[int]) -> in
     return size.vertex_samples - size.animated_vertex_samples + window
 
 
+def _vertex_sample_bytes(method: str) -> Tuple[int, int]:
+    """(loaded, core): bytes per vertex-sample that the loader holds for the whole range and that the core
+    holds for one memory window (the model above)."""
+    total = BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
+    loaded = min(LOADED_BYTES_PER_VERTEX_SAMPLE, total)
+    return loaded, total - loaded
+
+
+def _tree_bytes(size: ShotSize, method: str, threads: int) -> int:
+    """Bytes of the core's trees and lists (per triangle and thread)."""
+    return BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles * max(int(threads), 1)
+
+
 def estimated_bytes(size: ShotSize, method: str = "ksl", threads: int = 1,
                     steps_per_window: Optional[int] = None) -> int:
     """Peak memory the check of ``size`` on ``threads`` threads adds to the process (the model above),
     handed to the core in memory windows of ``steps_per_window`` sample steps (None: whole): each thread
     checks one time window at a time with trees and lists of its own."""
-    per_vertex_sample = BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
-    loaded = min(LOADED_BYTES_PER_VERTEX_SAMPLE, per_vertex_sample)
-    return int(FIXED_BYTES + loaded * size.vertex_samples
-               + (per_vertex_sample - loaded) * window_vertex_samples(size, steps_per_window)
-               + BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles
-               * max(int(threads), 1))
+    loaded, core = _vertex_sample_bytes(method)
+    return int(FIXED_BYTES + loaded * size.vertex_samples + core * window_vertex_samples(size, steps_per_window)
+               + _tree_bytes(size, method, threads))
 
 
 def default_steps_per_window(size: ShotSize, method: str = "ksl", threads: int = 1) -> Optional[int]:
     """Sample steps of a memory window when memory does not ask for fewer (module docstring); None when the
     shot has no animated vertex to cut."""
-    per_vertex_sample = BYTES_PER_VERTEX_SAMPLE.get(method, max(BYTES_PER_VERTEX_SAMPLE.values()))
-    core = per_vertex_sample - min(LOADED_BYTES_PER_VERTEX_SAMPLE, per_vertex_sample)
+    core = _vertex_sample_bytes(method)[1]
     if not size.animated_vertices or core <= 0:
         return None
-    trees = BYTES_PER_TRIANGLE.get(method, max(BYTES_PER_TRIANGLE.values())) * size.triangles * max(int(threads), 1)
-    from ..checking.memory_windows import MIN_STEPS_PER_WINDOW
-
-    return max(MIN_STEPS_PER_WINDOW, int(max(WINDOW_BYTES, trees) // (core * size.animated_vertices)) - 1)
+    window_bytes = max(WINDOW_BYTES, _tree_bytes(size, method, threads))
+    return max(MIN_STEPS_PER_WINDOW, int(window_bytes // (core * size.animated_vertices)) - 1)
 
 
 def part_bounds(span: TimeRange, parts: int, shared_samples: Optional[np.ndarray]) -> List[float]:
@@ -317,16 +325,13 @@ def plan_memory(size: ShotSize, method: str, limit: Optional[int], file: Optiona
     limit): ``steps_per_window`` when given (--window), else the default, shortened to what fits when the
     default does not. Raises UsdkslUsageError (exit 2) when even the shortest window does not fit (or the
     given one does not): the line says how much is needed and there is, and how to split the work."""
-    from ..checking.memory_windows import MIN_STEPS_PER_WINDOW
-
     steps = (default_steps_per_window(size, method, threads) if steps_per_window is None
              else max(int(steps_per_window), MIN_STEPS_PER_WINDOW))
     needed = estimated_bytes(size, method, threads, steps)
     if limit is None or needed <= limit:
         return MemoryPlan(steps, needed)
     if steps_per_window is None and size.animated_vertices:
-        per_step = (estimated_bytes(size, method, threads, MIN_STEPS_PER_WINDOW + 1)
-                    - estimated_bytes(size, method, threads, MIN_STEPS_PER_WINDOW))
+        per_step = _vertex_sample_bytes(method)[1] * size.animated_vertices   # one more sample of each
         room = limit - estimated_bytes(size, method, threads, MIN_STEPS_PER_WINDOW)
         if room >= 0 and per_step > 0:
             fitting = min(steps, MIN_STEPS_PER_WINDOW + room // per_step)
@@ -341,7 +346,7 @@ def refuse(size: ShotSize, method: str, limit: int, file: Optional[str], threads
     what = (f"needs about {format_bytes(needed)} of memory to check ({size.meshes} meshes, "
             f"{size.vertex_samples:,} vertex samples, {size.triangles:,} triangles) but "
             f"{format_bytes(limit)} is available")
-    loaded = min(LOADED_BYTES_PER_VERTEX_SAMPLE, BYTES_PER_VERTEX_SAMPLE.get(method, LOADED_BYTES_PER_VERTEX_SAMPLE))
+    loaded = _vertex_sample_bytes(method)[0]
     # what a part of the range needs besides the points the loader holds for it
     fixed = needed - loaded * size.vertex_samples
     chunks = math.ceil(loaded * size.vertex_samples / (limit - fixed) * 1.25) if fixed < limit else 0
