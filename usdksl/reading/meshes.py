@@ -513,7 +513,8 @@ def load_mesh(prim: Usd.Prim, times: np.ndarray, file: str = "",
                                        matrices, prim, points)
     if local_constant is not None:
         return classified_mesh(path, times, points, local_constant, topology)
-    points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float64)   # a sample in double
+    if points.dtype != np.float64:   # a sample in double: the points cannot stay float
+        points = np.empty((times.shape[0], topology.point_count, 3), dtype=np.float64)
     local_constant = True
     for k, time in enumerate(times):
         time = float(time)
