@@ -201,11 +201,18 @@ def find_blowups(prim: str, times: np.ndarray, points: np.ndarray, glitches: Seq
     threshold = BLOWUP_SIZE_FACTOR * size
     found: List[Blowup] = []
     steps_per_block = max(1, BLOWUP_BLOCK_VALUES // (3 * points.shape[1]))
+    # one set of temporaries for every block: fresh arrays of this size would be pages the kernel zeroes anew
+    block_steps = min(steps_per_block, points.shape[0] - 1)
+    doubles = np.empty((block_steps + 1,) + points.shape[1:], dtype=np.float64)
+    step_buffer = np.empty((block_steps,) + points.shape[1:], dtype=np.float64)
+    squared_buffer = np.empty(step_buffer.shape[:2], dtype=np.float64)
     for first in range(0, points.shape[0] - 1, steps_per_block):
         last = min(first + steps_per_block, points.shape[0] - 1)
-        block = points[first:last + 1].astype(np.float64, copy=False)   # float32 points: the same doubles
-        steps = block[1:] - block[:-1]
-        largest = np.sqrt(np.einsum("kni,kni->kn", steps, steps).max(axis=1))
+        block = doubles[:last - first + 1]
+        np.copyto(block, points[first:last + 1])   # float32 points: the same doubles
+        steps = np.subtract(block[1:], block[:-1], out=step_buffer[:last - first])
+        squared = np.einsum("kni,kni->kn", steps, steps, out=squared_buffer[:last - first])
+        largest = np.sqrt(squared.max(axis=1))
         suspect = np.nonzero(~(EXCESS_BOUND_FACTOR * largest <= threshold))[0]  # NaN stays suspect
         if suspect.size == 0:
             continue

@@ -448,9 +448,15 @@ def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.
         out[1:] = out[0]
         return True
     samples_per_block = max(1, TRANSFORM_BLOCK_VALUES // max(1, first.size))
-    block = np.empty((min(samples_per_block, times.shape[0]),) + first.shape, dtype=first.dtype)
+    # points that no transform moves are read straight into their place: no block, no product
+    as_authored = (fixed_matrix is not None and out.dtype == first.dtype
+                   and np.array_equal(fixed_matrix, IDENTITY_MATRIX))
+    if not as_authored:
+        block = np.empty((min(samples_per_block, times.shape[0]),) + first.shape, dtype=first.dtype)
     local_constant = True
     for start in range(0, times.shape[0], samples_per_block):
+        if as_authored:
+            block = out[start:start + samples_per_block]
         read, failure = 0, None
         for k in range(start, min(start + samples_per_block, times.shape[0])):
             try:
@@ -474,7 +480,8 @@ def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.
             if bad_matrix == 0:
                 raise UsdkslInputError("local-to-world transform is not finite", file=file, prim=path,
                                        time=float(times[start]))
-            _to_world(block[:read], matrix, world)
+            if not as_authored:
+                _to_world(block[:read], matrix, world)
             finite = np.isfinite(world).all(axis=(1, 2))
             bad = read if finite.all() else int(np.argmin(finite))
             if bad < bad_matrix:
