@@ -22,18 +22,13 @@ namespace {
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
 
-MeshAnimation to_mesh(const py::handle& item, size_t index) {
-    const MeshArrays arrays = read_mesh_arrays(item, index, false);
+/// The mesh of `arrays`, whose points it borrows: the arrays must outlive it.
+MeshAnimation to_mesh(const MeshArrays& arrays) {
     MeshAnimation mesh;
     mesh.times.assign(arrays.times.data(), arrays.times.data() + arrays.times.size());
-    // float points are widened as they are copied
-    if (arrays.float_points) {
-        const float* data = static_cast<const float*>(arrays.points.data());
-        mesh.points.assign(data, data + arrays.points.size());
-    } else {
-        const double* data = static_cast<const double*>(arrays.points.data());
-        mesh.points.assign(data, data + arrays.points.size());
-    }
+    if (arrays.float_points) mesh.borrowed_float_points = static_cast<const float*>(arrays.points.data());
+    else mesh.borrowed_points = static_cast<const double*>(arrays.points.data());
+    mesh.borrowed_value_count = static_cast<size_t>(arrays.points.size());
     mesh.vertex_count = arrays.vertex_count();
     mesh.triangles.resize(static_cast<size_t>(arrays.triangles.shape(0)));
     std::memcpy(mesh.triangles.data(), arrays.triangles.data(),
@@ -52,9 +47,16 @@ py::array_t<T> column(const std::vector<Contact>& contacts, F get) {
 
 py::dict find_contacts_py(const py::list& meshes_in, const IntArray& pairs_in, const CheckOptions& options_in,
                           const py::object& progress) {
+    // The shot's points are the largest arrays of a check: the core reads them in place, held here for the
+    // call (the caller must not change them meanwhile).
+    std::vector<MeshArrays> arrays;
     std::vector<MeshAnimation> meshes;
+    arrays.reserve(meshes_in.size());
     meshes.reserve(meshes_in.size());
-    for (size_t i = 0; i < meshes_in.size(); ++i) meshes.push_back(to_mesh(meshes_in[i], i));
+    for (size_t i = 0; i < meshes_in.size(); ++i) {
+        arrays.push_back(read_mesh_arrays(meshes_in[i], i, false));
+        meshes.push_back(to_mesh(arrays.back()));
+    }
     if (pairs_in.size() != 0 && (pairs_in.ndim() != 2 || pairs_in.shape(1) != 2))
         throw std::invalid_argument("pairs must have shape (P, 2)");
     std::vector<std::pair<int32_t, int32_t>> pairs;

@@ -14,7 +14,7 @@ from usdksl.pipeline.memory_budget import (
     default_steps_per_window, estimated_bytes, memory_limit, parse_memory_size, part_bounds, plan_memory,
     scan_shot)
 from usdksl.checking.memory_windows import MIN_STEPS_PER_WINDOW
-from usdksl.pipeline.memory_budget import BYTES_PER_TRIANGLE, LOADED_BYTES_PER_VERTEX_SAMPLE, WINDOW_BYTES
+from usdksl.pipeline.memory_budget import BYTES_PER_TRIANGLE, BYTES_PER_VERTEX_SAMPLE, LOADED_BYTES_PER_VERTEX_SAMPLE, WINDOW_BYTES
 from usdksl.cli.main import main
 from usdksl.errors import UsdkslUsageError
 from usdksl.reading.loader import load_shot
@@ -151,7 +151,10 @@ def test_memory_windows_bound_what_the_core_holds_not_what_the_loader_holds():
                     animated_vertex_samples=10_000 * 1000, most_samples=1000, span=(1.0, 1000.0))
     whole_growth = estimated_bytes(long) - estimated_bytes(short)
     window_growth = estimated_bytes(long, steps_per_window=32) - estimated_bytes(short, steps_per_window=32)
-    assert 0 < window_growth < whole_growth / 5, "ten times the frames add only the loader's points"
+    extra_samples = long.vertex_samples - short.vertex_samples
+    assert whole_growth == BYTES_PER_VERTEX_SAMPLE["ksl"] * extra_samples
+    assert window_growth == LOADED_BYTES_PER_VERTEX_SAMPLE * extra_samples, "ten times the frames add only the loader's points"
+    assert window_growth < whole_growth
     # a still mesh counts its one sample whatever the window
     still = ShotSize(meshes=2, vertex_samples=10_000 * 100 + 500, triangles=20_000, animated_vertices=10_000,
                      animated_vertex_samples=10_000 * 100, most_samples=100)

@@ -10,8 +10,9 @@ counts the same on its own, reading past whatever the loader would refuse.
 
 - per vertex-sample of the whole checked range: the loader's float64 points, which the regions, the
   cross-check and the report's pictures read at any time of the shot;
-- per vertex-sample of one memory window (usdksl.checking.memory_windows): the core's copy of the points
-  and its merged and raw flightplans, which it holds for the window it checks; a long shot is handed to the
+- per vertex-sample of one memory window (usdksl.checking.memory_windows): the core's merged flightplans
+  and what it derives from the points (it reads the loader's points in place), which it holds for the
+  window it checks; a long shot is handed to the
   core a window at a time, so this part is set by the window, not by the shot's length;
 - per triangle and thread (not per sample: the trees and lists exist once per time window, and each
   thread checks one window at a time): the step-box trees, separation-list entries and clearance certificates of KSL,
@@ -60,8 +61,10 @@ NO_LIMIT = "off"
 #: samples at 117 B: the front grows a little faster than the cloth, and 2,600 B stays above it.
 #: The same script fits the fixed part at 5.0 MiB (KSL) and 3.7 MiB (swept); at 8 MiB a small shot's estimate
 #: stood at 1.67x to 1.98x of its peak and one noisy measurement of a 2k-face shot crossed 2x, at 6 MiB every
-#: shot lies between 1.08x and 1.89x.
-BYTES_PER_VERTEX_SAMPLE = {"ksl": 250, "swept": 120, "discrete": 120, "brute": 120}
+#: shot lies between 1.08x and 1.89x. Since the core reads the loader's points in place (no copy of its own, and
+#: flightplans that keep every sample read them too), the same script fits KSL at 100 B per vertex sample
+#: (and 1,846 B per triangle and thread); 160 B keeps the shots of every sample count between 1.04x and 1.75x.
+BYTES_PER_VERTEX_SAMPLE = {"ksl": 160, "swept": 120, "discrete": 120, "brute": 120}
 #: Of BYTES_PER_VERTEX_SAMPLE, what the loader holds for the whole checked range (float64 points, 24 B,
 #: plus their share of its per-mesh arrays); the rest is the core's, held for one memory window.
 LOADED_BYTES_PER_VERTEX_SAMPLE = 32

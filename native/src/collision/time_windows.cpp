@@ -23,11 +23,11 @@ std::vector<int64_t> WindowCuts::breakpoints_at(int64_t first, int64_t last) con
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
             // Both lists are sorted: walk v's breakpoints in [times_[first], times_[last]] beside the times.
             int64_t k = plans.peek_segment(v, times_[first]);
-            if (plans.key_time(k) < times_[first]) ++k;
+            if (plans.key_time(v, k) < times_[first]) ++k;
             int64_t i = first;
-            for (; k < plans.key_end(v) && plans.key_time(k) <= times_[last]; ++k) {
-                while (times_[i] < plans.key_time(k)) ++i;
-                if (times_[i] == plans.key_time(k)) ++count[static_cast<size_t>(i - first)];
+            for (; k < plans.key_end(v) && plans.key_time(v, k) <= times_[last]; ++k) {
+                while (times_[i] < plans.key_time(v, k)) ++i;
+                if (times_[i] == plans.key_time(v, k)) ++count[static_cast<size_t>(i - first)];
             }
         }
     }

@@ -17,12 +17,11 @@ namespace usdksl {
 inline double deviation_from_chord(const MeshAnimation& mesh, int32_t v, int64_t i, int64_t j, int64_t k) {
     const double ti = mesh.times[i], tj = mesh.times[j], tk = mesh.times[k];
     const double w = (tj - ti) / (tk - ti);
-    const size_t n = static_cast<size_t>(mesh.vertex_count);
     double worst = 0.0;
     for (int axis = 0; axis < 3; ++axis) {
-        const double pi = mesh.points[(i * n + v) * 3 + axis];
-        const double pj = mesh.points[(j * n + v) * 3 + axis];
-        const double pk = mesh.points[(k * n + v) * 3 + axis];
+        const double pi = mesh.sample_coord(i, v, axis);
+        const double pj = mesh.sample_coord(j, v, axis);
+        const double pk = mesh.sample_coord(k, v, axis);
         worst = std::max(worst, std::abs(pi + w * (pk - pi) - pj));
     }
     return worst;
@@ -30,7 +29,7 @@ inline double deviation_from_chord(const MeshAnimation& mesh, int32_t v, int64_t
 
 /// @brief Largest absolute coordinate of vertex v at sample k (scene units).
 inline double sample_magnitude(const MeshAnimation& mesh, int32_t v, int64_t k) {
-    const double* p = &mesh.points[(static_cast<size_t>(k) * static_cast<size_t>(mesh.vertex_count) + v) * 3];
+    const Vec3 p = mesh.sample_point(k, v);
     return std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
 }
 

@@ -56,8 +56,8 @@ public:
     /// @brief Narrows the window to the chords that pass close to sample j (after the anchor).
     void add(int64_t j) {
         const double tau = mesh_->times[j] - mesh_->times[anchor_];
-        const double* a = point(anchor_);
-        const double* p = point(j);
+        const Vec3 a = mesh_->sample_point(anchor_, v_);
+        const Vec3 p = mesh_->sample_point(j, v_);
         for (int axis = 0; axis < 3; ++axis) {
             const double d = p[axis] - a[axis];
             low_[axis] = std::max(low_[axis], (d - tolerance_) / tau);
@@ -72,8 +72,8 @@ public:
     bool admits_chord_to(int64_t end, double magnitude) const {
         if (magnitude > CHORD_WINDOW_MAGNITUDE_RATIO * anchor_magnitude_) return false;
         const double span = mesh_->times[end] - mesh_->times[anchor_];
-        const double* a = point(anchor_);
-        const double* p = point(end);
+        const Vec3 a = mesh_->sample_point(anchor_, v_);
+        const Vec3 p = mesh_->sample_point(end, v_);
         for (int axis = 0; axis < 3; ++axis) {
             const double u = (p[axis] - a[axis]) / span;
             if (!(u >= low_[axis] && u <= high_[axis])) return false;
@@ -82,10 +82,6 @@ public:
     }
 
 private:
-    const double* point(int64_t k) const {
-        return &mesh_->points[(static_cast<size_t>(k) * static_cast<size_t>(mesh_->vertex_count) + v_) * 3];
-    }
-
     const MeshAnimation* mesh_ = nullptr;
     int32_t v_ = 0;
     int64_t anchor_ = 0;

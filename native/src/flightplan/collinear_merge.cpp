@@ -13,7 +13,6 @@ namespace usdksl {
 double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
                                std::vector<int64_t>& kept) {
     const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
-    const size_t n = static_cast<size_t>(mesh.vertex_count);
     kept.clear();
     kept.push_back(0);
     double deviation = 0.0;  // of vertex v
@@ -55,8 +54,7 @@ double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64
     if (kept.size() == 2) {
         bool still = true;
         for (int axis = 0; axis < 3; ++axis) {
-            still = still && mesh.points[(static_cast<size_t>(kept[0]) * n + v) * 3 + axis] ==
-                                 mesh.points[(static_cast<size_t>(kept[1]) * n + v) * 3 + axis];
+            still = still && mesh.sample_coord(kept[0], v, axis) == mesh.sample_coord(kept[1], v, axis);
         }
         if (still) kept.pop_back();
     }

@@ -39,7 +39,6 @@ struct Flightplans::VertexRun {
 void Flightplans::choose_breakpoints(VertexRun& run) {
     const MeshAnimation& mesh = *run.mesh;
     const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
-    const size_t n = static_cast<size_t>(mesh.vertex_count);
     run.count.reserve(static_cast<size_t>(run.last - run.first));
     if (run.merge_collinear) {
         run.deviation.reserve(static_cast<size_t>(run.last - run.first));
@@ -49,7 +48,7 @@ void Flightplans::choose_breakpoints(VertexRun& run) {
     kept.reserve(static_cast<size_t>(sample_count));
     for (int32_t v = run.first; v < run.last; ++v) {
         for (int64_t k = 0; k < sample_count; ++k) {
-            const double* p = &mesh.points[(static_cast<size_t>(k) * n + static_cast<size_t>(v)) * 3];
+            const Vec3 p = mesh.sample_point(k, v);
             if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
                 throw std::invalid_argument("flightplans: non-finite point coordinate");
             }
@@ -97,7 +96,6 @@ void Flightplans::align_breakpoints(VertexRun& run, const int64_t* popularity) {
 
 void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
     const MeshAnimation& mesh = *run.mesh;
-    const size_t n = static_cast<size_t>(mesh.vertex_count);
     double* key_times = storage.key_times.get();
     double* key_points = storage.key_points.get();
     int64_t key = run.first_key;
@@ -106,9 +104,13 @@ void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
         const int64_t count = run.count[static_cast<size_t>(v - run.first)];
         storage.offsets[static_cast<size_t>(v)] = key;
         double magnitude = 0.0;
-        for (int64_t i = 0; i < count; ++i, ++key) {
-            const int64_t k = run.merge_collinear ? run.kept_samples[kept_index++] : i;
-            const double* p = &mesh.points[(static_cast<size_t>(k) * n + static_cast<size_t>(v)) * 3];
+        if (!run.merge_collinear) {  // every sample, read in place
+            for (int64_t k = 0; k < count; ++k) magnitude = std::max(magnitude, sample_magnitude(mesh, v, k));
+            key += count;
+        }
+        for (int64_t i = 0; run.merge_collinear && i < count; ++i, ++key) {
+            const int64_t k = run.kept_samples[kept_index++];
+            const Vec3 p = mesh.sample_point(k, v);
             key_times[key] = mesh.times[static_cast<size_t>(k)];
             key_points[3 * key] = p[0];
             key_points[3 * key + 1] = p[1];
@@ -161,7 +163,7 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
         const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
         const int32_t n = mesh.vertex_count;
         if (sample_count < 1 || n < 0 ||
-            mesh.points.size() != static_cast<size_t>(sample_count) * static_cast<size_t>(n) * 3) {
+            mesh.point_value_count() != static_cast<size_t>(sample_count) * static_cast<size_t>(n) * 3) {
             throw std::invalid_argument("flightplans: points do not match times x vertex_count x 3");
         }
         for (int64_t k = 1; k < sample_count; ++k) {
@@ -205,8 +207,10 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
         Storage& storage = *(storages[r] = std::make_shared<Storage>());
         storage.offsets.resize(n + 1);
         storage.offsets[n] = static_cast<int64_t>(total);
-        storage.key_times = make_uninitialized_huge_array<double>(total);
-        storage.key_points = make_uninitialized_huge_array<double>(3 * total);
+        if (requests[r].merge_collinear) {  // flightplans of every sample read the mesh in place
+            storage.key_times = make_uninitialized_huge_array<double>(total);
+            storage.key_points = make_uninitialized_huge_array<double>(3 * total);
+        }
         storage.vertex_magnitude.resize(n);
     }
     parallel_for(std::max(threads, 1), run_total, [&](int32_t i) {
@@ -235,6 +239,10 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
         plans.offsets_ = storage.offsets.data();
         plans.key_times_ = storage.key_times.get();
         plans.key_points_ = storage.key_points.get();
+        if (!requests[r].merge_collinear) {
+            plans.raw_ = &mesh;
+            plans.raw_times_ = mesh.times.data();
+        }
         plans.vertex_magnitude_ = storage.vertex_magnitude.data();
         plans.vertex_deviation_ = storage.vertex_deviation.empty() ? nullptr : storage.vertex_deviation.data();
         plans.storage_ = std::move(storages[r]);
@@ -246,7 +254,7 @@ int64_t Flightplans::segment_of(int32_t v, double t) const {
     const int64_t end = offsets_[v + 1];
     int64_t k = segment_hint_[v];
     for (int step = 0; step < 2 && k < end; ++step, ++k) {
-        if (key_times_[k] <= t && (k + 1 == end || key_times_[k + 1] > t)) return segment_hint_[v] = k;
+        if (key_time(v, k) <= t && (k + 1 == end || key_time(v, k + 1) > t)) return segment_hint_[v] = k;
     }
     return segment_hint_[v] = search_segment(v, t);
 }
@@ -254,21 +262,24 @@ int64_t Flightplans::segment_of(int32_t v, double t) const {
 int64_t Flightplans::peek_segment(int32_t v, double t) const {
     const int64_t end = offsets_[v + 1];
     const int64_t k = segment_hint_[v];
-    if (k < end && key_times_[k] <= t && (k + 1 == end || key_times_[k + 1] > t)) return k;
+    if (k < end && key_time(v, k) <= t && (k + 1 == end || key_time(v, k + 1) > t)) return k;
     return search_segment(v, t);
 }
 
+std::pair<const double*, const double*> Flightplans::breakpoint_times(int32_t v) const {
+    if (raw_) return {raw_times_, raw_times_ + (offsets_[v + 1] - offsets_[v])};
+    return {key_times_ + offsets_[v], key_times_ + offsets_[v + 1]};
+}
+
 int64_t Flightplans::search_segment(int32_t v, double t) const {
-    const auto first = key_times_ + offsets_[v];
-    const auto last = key_times_ + offsets_[v + 1];
+    const auto [first, last] = breakpoint_times(v);
     auto it = std::upper_bound(first, last, t);
     if (it == first) return offsets_[v];
-    return static_cast<int64_t>(it - key_times_) - 1;
+    return offsets_[v] + static_cast<int64_t>(it - first) - 1;
 }
 
 double Flightplans::next_breakpoint(int32_t v, double t) const {
-    const auto first = key_times_ + offsets_[v];
-    const auto last = key_times_ + offsets_[v + 1];
+    const auto [first, last] = breakpoint_times(v);
     auto it = std::upper_bound(first, last, t);
     return it == last ? std::numeric_limits<double>::infinity() : *it;
 }

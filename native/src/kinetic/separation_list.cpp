@@ -50,7 +50,7 @@ std::vector<double> breakpoint_times(const Scene& scene, const std::vector<bool>
         const Flightplans& plans = scene.plans[m];
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
             for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
-                const double t = plans.key_time(k);
+                const double t = plans.key_time(v, k);
                 const auto it = std::lower_bound(samples.begin(), samples.end(), t);
                 if (it != samples.end() && *it == t) kept[static_cast<size_t>(it - samples.begin())] = true;
                 else if (t > t_begin && t < t_end) times.push_back(t);
@@ -238,10 +238,10 @@ void KineticSeparationLists::measure_travel() {
         const Flightplans& plans = scene_.plans[m];
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
             for (int64_t k = plans.key_begin(v); k + 1 < plans.key_end(v); ++k) {
-                const double t0 = plans.key_time(k), t1 = plans.key_time(k + 1);
+                const double t0 = plans.key_time(v, k), t1 = plans.key_time(v, k + 1);
                 double moved = 0.0;
                 for (int axis = 0; axis < 3; ++axis) {
-                    moved = std::max(moved, std::abs(plans.key_coord(k + 1, axis) - plans.key_coord(k, axis)));
+                    moved = std::max(moved, std::abs(plans.key_coord(v, k + 1, axis) - plans.key_coord(v, k, axis)));
                 }
                 if (moved == 0.0) continue;
                 const double speed = moved / (t1 - t0);

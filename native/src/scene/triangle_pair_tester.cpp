@@ -47,10 +47,10 @@ PairStep TrianglePairTester::step_containing(int32_t mesh_a, int32_t tri_a, int3
         const Flightplans& plans = scene_.plans[mesh];
         for (int32_t v : scene_.meshes[mesh].triangles[tri]) {
             const int64_t k = plans.segment_of(v, t);
-            const double kt = plans.key_time(k);
+            const double kt = plans.key_time(v, k);
             if (kt <= t) {
                 begin = std::max(begin, kt);
-                if (k + 1 < plans.key_end(v)) end = std::min(end, plans.key_time(k + 1));
+                if (k + 1 < plans.key_end(v)) end = std::min(end, plans.key_time(v, k + 1));
             } else {
                 end = std::min(end, kt);  // t precedes v's first breakpoint: v holds still until kt
             }
@@ -189,8 +189,8 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         vertex[i] = i < 3 ? ids_a[i] : ids_b[i - 3];
         segment[i] = p.segment_of(vertex[i], from);
         last[i] = p.key_end(vertex[i]) - 1;
-        segment_time[i] = p.key_time(segment[i]);
-        next_time[i] = segment[i] < last[i] ? p.key_time(segment[i] + 1) : infinity;
+        segment_time[i] = p.key_time(vertex[i], segment[i]);
+        next_time[i] = segment[i] < last[i] ? p.key_time(vertex[i], segment[i] + 1) : infinity;
     }
     // A clearance certificate skips steps on which the pair provably stays
     // out of reach; one that fails at once backs off for a few steps, so a
@@ -231,7 +231,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
             while (next_time[i] <= t) {  // Flightplans::advance_segment
                 segment_time[i] = next_time[i];
                 ++segment[i];
-                next_time[i] = segment[i] < last[i] ? plans[i]->key_time(segment[i] + 1) : infinity;
+                next_time[i] = segment[i] < last[i] ? plans[i]->key_time(vertex[i], segment[i] + 1) : infinity;
             }
             if (segment_time[i] <= t) {
                 begin = std::max(begin, segment_time[i]);

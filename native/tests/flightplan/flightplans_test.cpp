@@ -75,7 +75,7 @@ TEST(Flightplans, AFarAwaySampleOfOneVertexLoosensNoOtherVertex) {
         if (v == 4) continue;
         ASSERT_EQ(a.key_end(v) - a.key_begin(v), b.key_end(v) - b.key_begin(v)) << "vertex " << v;
         for (int64_t k = 0; k < a.key_end(v) - a.key_begin(v); ++k) {
-            EXPECT_EQ(a.key_time(a.key_begin(v) + k), b.key_time(b.key_begin(v) + k));
+            EXPECT_EQ(a.key_time(v, a.key_begin(v) + k), b.key_time(v, b.key_begin(v) + k));
         }
         EXPECT_EQ(a.vertex_magnitude(v), b.vertex_magnitude(v));
     }
@@ -93,8 +93,8 @@ TEST(Flightplans, SegmentLookupAgreesWithBinarySearchInAnyQueryOrder) {
             const int64_t k = merged.segment_of(v, t);
             EXPECT_GE(k, merged.key_begin(v));
             EXPECT_LT(k, merged.key_end(v));
-            if (t >= merged.key_time(merged.key_begin(v))) EXPECT_LE(merged.key_time(k), t);
-            if (k + 1 < merged.key_end(v)) EXPECT_GT(merged.key_time(k + 1), t);
+            if (t >= merged.key_time(v, merged.key_begin(v))) EXPECT_LE(merged.key_time(v, k), t);
+            if (k + 1 < merged.key_end(v)) EXPECT_GT(merged.key_time(v, k + 1), t);
         }
     }
 }
@@ -121,8 +121,8 @@ TEST(Flightplans, AnyThreadCountBuildsTheSameFlightplans) {
             EXPECT_EQ(many.vertex_magnitude(v), one.vertex_magnitude(v));
             EXPECT_EQ(many.vertex_deviation(v), one.vertex_deviation(v));
             for (int64_t k = one.key_begin(v); k < one.key_end(v); ++k) {
-                ASSERT_EQ(many.key_time(k), one.key_time(k));
-                for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(many.key_coord(k, axis), one.key_coord(k, axis));
+                ASSERT_EQ(many.key_time(v, k), one.key_time(v, k));
+                for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(many.key_coord(v, k, axis), one.key_coord(v, k, axis));
             }
         }
     }
@@ -156,8 +156,8 @@ TEST(Flightplans, MeshesBuiltTogetherGetTheFlightplansEachGetsAlone) {
             ASSERT_EQ(plans.key_end(v), alone.key_end(v)) << "mesh " << r << " vertex " << v;
             EXPECT_EQ(plans.vertex_magnitude(v), alone.vertex_magnitude(v));
             for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
-                ASSERT_EQ(plans.key_time(k), alone.key_time(k));
-                for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(plans.key_coord(k, axis), alone.key_coord(k, axis));
+                ASSERT_EQ(plans.key_time(v, k), alone.key_time(v, k));
+                for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(plans.key_coord(v, k, axis), alone.key_coord(v, k, axis));
             }
         }
         if (!requests[r].merge_collinear) {
@@ -166,9 +166,9 @@ TEST(Flightplans, MeshesBuiltTogetherGetTheFlightplansEachGetsAlone) {
                 ASSERT_EQ(plans.key_end(v) - plans.key_begin(v), static_cast<int64_t>(mesh.times.size()));
                 for (size_t k = 0; k < mesh.times.size(); ++k) {
                     const int64_t key = plans.key_begin(v) + static_cast<int64_t>(k);
-                    ASSERT_EQ(plans.key_time(key), mesh.times[k]);
+                    ASSERT_EQ(plans.key_time(v, key), mesh.times[k]);
                     for (int axis = 0; axis < 3; ++axis) {
-                        ASSERT_EQ(plans.key_coord(key, axis), mesh.points[(k * static_cast<size_t>(mesh.vertex_count) + v) * 3 + axis]);
+                        ASSERT_EQ(plans.key_coord(v, key, axis), mesh.points[(k * static_cast<size_t>(mesh.vertex_count) + v) * 3 + axis]);
                     }
                 }
             }

@@ -77,12 +77,12 @@ double worst_deviation(const Flightplans& plans, const MeshAnimation& mesh, int3
 void expect_within_tolerance(const Flightplans& plans, const MeshAnimation& mesh) {
     const size_t n = static_cast<size_t>(mesh.vertex_count);
     for (int32_t v = 0; v < mesh.vertex_count; ++v) {
-        ASSERT_EQ(plans.key_time(plans.key_begin(v)), mesh.times.front()) << "vertex " << v;
+        ASSERT_EQ(plans.key_time(v, plans.key_begin(v)), mesh.times.front()) << "vertex " << v;
         for (int64_t key = plans.key_begin(v); key < plans.key_end(v); ++key) {
-            const auto sample = std::lower_bound(mesh.times.begin(), mesh.times.end(), plans.key_time(key));
-            ASSERT_TRUE(sample != mesh.times.end() && *sample == plans.key_time(key)) << "vertex " << v;
+            const auto sample = std::lower_bound(mesh.times.begin(), mesh.times.end(), plans.key_time(v, key));
+            ASSERT_TRUE(sample != mesh.times.end() && *sample == plans.key_time(v, key)) << "vertex " << v;
             const size_t k = static_cast<size_t>(sample - mesh.times.begin());
-            for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(plans.key_coord(key, axis), mesh.points[(k * n + v) * 3 + axis]);
+            for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(plans.key_coord(v, key, axis), mesh.points[(k * n + v) * 3 + axis]);
         }
         EXPECT_LE(worst_deviation(plans, mesh, v), plans.vertex_deviation(v) + 1e-15 * plans.vertex_magnitude(v))
             << "vertex " << v;
@@ -145,8 +145,8 @@ TEST(SharedBreakpoints, DenseLinearInBetweensOfCurvedMotionBreakOnlyAtTheFrames)
     for (int32_t v = 0; v < mesh.vertex_count; ++v) {
         const int64_t breakpoints = plans.key_end(v) - plans.key_begin(v);
         for (int64_t key = plans.key_begin(v); key < plans.key_end(v); ++key) {
-            EXPECT_TRUE(on_a_frame(plans.key_time(key))) << "vertex " << v << " breaks at " << plans.key_time(key);
-            steps.insert(plans.key_time(key));
+            EXPECT_TRUE(on_a_frame(plans.key_time(v, key))) << "vertex " << v << " breaks at " << plans.key_time(v, key);
+            steps.insert(plans.key_time(v, key));
         }
         if (v < 60) EXPECT_EQ(breakpoints, frames + 1) << "a fast vertex bends at every frame";
         else slow_merging_frames += breakpoints <= frames / 2;
@@ -200,9 +200,9 @@ TEST(SharedBreakpoints, OneAndFourThreadsBuildTheSameAlignedFlightplans) {
         ASSERT_EQ(four.key_end(v), one.key_end(v)) << "vertex " << v;
         EXPECT_EQ(four.vertex_deviation(v), one.vertex_deviation(v));
         for (int64_t k = one.key_begin(v); k < one.key_end(v); ++k) {
-            ASSERT_EQ(four.key_time(k), one.key_time(k));
-            EXPECT_TRUE(on_a_frame(one.key_time(k))) << "vertex " << v;
-            for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(four.key_coord(k, axis), one.key_coord(k, axis));
+            ASSERT_EQ(four.key_time(v, k), one.key_time(v, k));
+            EXPECT_TRUE(on_a_frame(one.key_time(v, k))) << "vertex " << v;
+            for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(four.key_coord(v, k, axis), one.key_coord(v, k, axis));
         }
     }
     expect_within_tolerance(one, mesh);
@@ -216,13 +216,13 @@ TEST(SharedBreakpoints, MeshesBuiltTogetherBreakAtTimesEitherKeeps) {
     const Flightplans alone(slow, true);
     bool between_frames = false;
     for (int32_t v = 0; v < slow.vertex_count; ++v) {
-        for (int64_t k = alone.key_begin(v); k < alone.key_end(v); ++k) between_frames |= !on_a_frame(alone.key_time(k));
+        for (int64_t k = alone.key_begin(v); k < alone.key_end(v); ++k) between_frames |= !on_a_frame(alone.key_time(v, k));
     }
     ASSERT_TRUE(between_frames);
     const std::vector<Flightplans> together = Flightplans::build_all({{&slow, true}, {&fast, true}}, 2);
     for (int32_t v = 0; v < slow.vertex_count; ++v) {
         for (int64_t k = together[0].key_begin(v); k < together[0].key_end(v); ++k) {
-            EXPECT_TRUE(on_a_frame(together[0].key_time(k))) << "vertex " << v;
+            EXPECT_TRUE(on_a_frame(together[0].key_time(v, k))) << "vertex " << v;
         }
     }
     expect_within_tolerance(together[0], slow);

@@ -59,7 +59,7 @@ double worst_overhang(const StepBoxTree& tree, const Flightplans& plans,
 std::vector<double> breakpoint_times(const Flightplans& plans) {
     std::set<double> breakpoints;
     for (int32_t v = 0; v < plans.vertex_count(); ++v) {
-        for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) breakpoints.insert(plans.key_time(k));
+        for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) breakpoints.insert(plans.key_time(v, k));
     }
     return {breakpoints.begin(), breakpoints.end()};
 }

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace usdksl {
@@ -23,7 +24,9 @@ struct FlightplanRequest {
 ///        own breakpoints (time codes) because consecutive collinear segments
 ///        merge: a keyframe animation densely resampled costs what its
 ///        keyframes cost. Before the first and after the last breakpoint a
-///        vertex holds still (USD's value clamping).
+///        vertex holds still (USD's value clamping). Flightplans that keep
+///        every sample (built without merging) copy nothing: they read the
+///        mesh's times and points in place, so the mesh must outlive them.
 class Flightplans {
 public:
     Flightplans() = default;
@@ -57,10 +60,12 @@ public:
     int64_t key_begin(int32_t v) const { return offsets_[v]; }
     int64_t key_end(int32_t v) const { return offsets_[v + 1]; }
 
-    /// @brief Time code of breakpoint k.
-    double key_time(int64_t k) const { return key_times_[k]; }
-    /// @brief Coordinate `axis` of breakpoint k.
-    double key_coord(int64_t k, int axis) const { return key_points_[3 * k + axis]; }
+    /// @brief Time code of breakpoint k of vertex v.
+    double key_time(int32_t v, int64_t k) const { return raw_ ? raw_times_[k - offsets_[v]] : key_times_[k]; }
+    /// @brief Coordinate `axis` of breakpoint k of vertex v (scene units).
+    double key_coord(int32_t v, int64_t k, int axis) const {
+        return raw_ ? raw_->sample_coord(k - offsets_[v], v, axis) : key_points_[3 * k + axis];
+    }
 
     /// @brief Breakpoint index of v's segment containing time t: the last k with
     ///        key_time(k) <= t, or key_begin(v) when t is before every breakpoint.
@@ -76,9 +81,10 @@ public:
     /// @brief Coordinate `axis` of vertex v at time code t, given the segment k
     ///        that contains t (as segment_of(v, t) returns it).
     double coord_in_segment(int32_t v, int64_t k, int axis, double t) const {
-        if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return key_points_[3 * k + axis];
-        const double t0 = key_times_[k], t1 = key_times_[k + 1];
-        const double p0 = key_points_[3 * k + axis], p1 = key_points_[3 * (k + 1) + axis];
+        const double t0 = key_time(v, k);
+        if (k + 1 >= offsets_[v + 1] || t <= t0) return key_coord(v, k, axis);
+        const double t1 = key_time(v, k + 1);
+        const double p0 = key_coord(v, k, axis), p1 = key_coord(v, k + 1, axis);
         const double w = (t - t0) / (t1 - t0);
         return p0 + w * (p1 - p0);
     }
@@ -89,6 +95,14 @@ public:
     /// @brief Position of vertex v at time code t, given the segment k that
     ///        contains t (as segment_of(v, t) returns it); bit-identical to position().
     Vec3 position_in_segment(int32_t v, int64_t k, double t) const {
+        if (raw_) {
+            const double t0 = key_time(v, k);
+            const Vec3 p0 = raw_->sample_point(k - offsets_[v], v);
+            if (k + 1 >= offsets_[v + 1] || t <= t0) return p0;
+            const Vec3 p1 = raw_->sample_point(k + 1 - offsets_[v], v);
+            const double w = (t - t0) / (key_time(v, k + 1) - t0);
+            return Vec3(p0[0] + w * (p1[0] - p0[0]), p0[1] + w * (p1[1] - p0[1]), p0[2] + w * (p1[2] - p0[2]));
+        }
         const double* p0 = &key_points_[3 * k];
         if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return Vec3(p0[0], p0[1], p0[2]);
         const double* p1 = p0 + 3;
@@ -102,7 +116,7 @@ public:
     ///        callers that walk forward in time with their own cursor. k must
     ///        be a segment of v at or before t's.
     int64_t advance_segment(int32_t v, int64_t k, double t) const {
-        while (k + 1 < offsets_[v + 1] && key_times_[k + 1] <= t) ++k;
+        while (k + 1 < offsets_[v + 1] && key_time(v, k + 1) <= t) ++k;
         return k;
     }
 
@@ -148,6 +162,8 @@ private:
     /// mesh's arrays, from its first breakpoint on.
     static void write_breakpoints(const VertexRun& run, Storage& storage);
     int64_t search_segment(int32_t v, double t) const;
+    /// The times of v's breakpoints, [first, last).
+    std::pair<const double*, const double*> breakpoint_times(int32_t v) const;
 
     /// The breakpoints, shared by copies: a copy costs one cursor per vertex,
     /// so each thread can walk its own.
@@ -160,6 +176,11 @@ private:
         std::vector<double> vertex_deviation;
     };
     std::shared_ptr<const Storage> storage_;
+    /// Flightplans that keep every sample: the mesh whose times and points
+    /// they read in place (key_times_ and key_points_ are then null), and its
+    /// times; breakpoint k of vertex v is its sample k - offsets_[v].
+    const MeshAnimation* raw_ = nullptr;
+    const double* raw_times_ = nullptr;
     int32_t vertex_count_ = -1;
     const int64_t* offsets_ = nullptr;
     const double* key_times_ = nullptr;
