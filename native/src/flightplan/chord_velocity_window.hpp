@@ -45,7 +45,9 @@ public:
         mesh_ = &mesh;
         v_ = v;
         anchor_ = anchor;
-        anchor_magnitude_ = sample_magnitude(mesh, v, anchor);
+        anchor_time_ = mesh.times[anchor];
+        anchor_point_ = mesh.sample_point(anchor, v);
+        anchor_magnitude_ = anchor_point_.cwiseAbs().maxCoeff();
         tolerance_ = (1.0 - CHORD_WINDOW_MARGIN) * FLIGHTPLAN_COLLINEAR_TOLERANCE * anchor_magnitude_;
         for (int axis = 0; axis < 3; ++axis) {
             low_[axis] = -std::numeric_limits<double>::infinity();
@@ -55,8 +57,8 @@ public:
 
     /// @brief Narrows the window to the chords that pass close to sample j (after the anchor).
     void add(int64_t j) {
-        const double tau = mesh_->times[j] - mesh_->times[anchor_];
-        const Vec3 a = mesh_->sample_point(anchor_, v_);
+        const double tau = mesh_->times[j] - anchor_time_;
+        const Vec3& a = anchor_point_;
         const Vec3 p = mesh_->sample_point(j, v_);
         for (int axis = 0; axis < 3; ++axis) {
             const double d = p[axis] - a[axis];
@@ -71,8 +73,8 @@ public:
     ///        anchor to `end` (false: not decided here).
     bool admits_chord_to(int64_t end, double magnitude) const {
         if (magnitude > CHORD_WINDOW_MAGNITUDE_RATIO * anchor_magnitude_) return false;
-        const double span = mesh_->times[end] - mesh_->times[anchor_];
-        const Vec3 a = mesh_->sample_point(anchor_, v_);
+        const double span = mesh_->times[end] - anchor_time_;
+        const Vec3& a = anchor_point_;
         const Vec3 p = mesh_->sample_point(end, v_);
         for (int axis = 0; axis < 3; ++axis) {
             const double u = (p[axis] - a[axis]) / span;
@@ -85,6 +87,8 @@ private:
     const MeshAnimation* mesh_ = nullptr;
     int32_t v_ = 0;
     int64_t anchor_ = 0;
+    double anchor_time_ = 0.0;  // time code
+    Vec3 anchor_point_ = Vec3::Zero();  // scene units
     double anchor_magnitude_ = 0.0;  // scene units
     double tolerance_ = 0.0;  // scene units
     double low_[3] = {0.0, 0.0, 0.0}, high_[3] = {0.0, 0.0, 0.0};  // scene units per time code

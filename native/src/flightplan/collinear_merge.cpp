@@ -17,6 +17,8 @@ double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64
     kept.push_back(0);
     double deviation = 0.0;  // of vertex v
     double run_magnitude = sample_magnitude(mesh, v, 0);  // of the samples since the last kept one
+    // sample_magnitude(mesh, v, k) for the k of the loop, carried from the iteration before
+    double magnitude_k = sample_count > 1 ? sample_magnitude(mesh, v, 1) : 0.0;
     ChordVelocityWindow window;
     window.reset(mesh, v, 0);
     for (int64_t k = 1; k < sample_count; ++k) {
@@ -24,8 +26,8 @@ double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64
             // Drop sample k when every sample since the last kept one lies on
             // the chord from the last kept sample to sample k + 1.
             const int64_t anchor = kept.back();
-            const double magnitude = std::max({run_magnitude, sample_magnitude(mesh, v, k),
-                                               sample_magnitude(mesh, v, k + 1)});
+            const double magnitude_next = sample_magnitude(mesh, v, k + 1);
+            const double magnitude = std::max({run_magnitude, magnitude_k, magnitude_next});
             window.add(k);
             bool merges = window.admits_chord_to(k + 1, magnitude);
             if (!merges) {
@@ -37,7 +39,8 @@ double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64
                 merges = worst <= merge_tolerance;
             }
             if (merges) {
-                run_magnitude = std::max(run_magnitude, sample_magnitude(mesh, v, k));
+                run_magnitude = std::max(run_magnitude, magnitude_k);
+                magnitude_k = magnitude_next;
                 continue;
             }
             // The run ends at or before k; the walk goes on from its end.
@@ -49,6 +52,7 @@ double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64
         }
         kept.push_back(k);
         run_magnitude = sample_magnitude(mesh, v, k);
+        if (k + 1 < sample_count) magnitude_k = sample_magnitude(mesh, v, k + 1);
         window.reset(mesh, v, k);
     }
     if (kept.size() == 2) {
