@@ -118,7 +118,8 @@ py::dict group_regions_py(const py::list& meshes_in, const DoubleArray& time, co
 py::dict region_depths_py(const py::list& meshes_in, const DoubleArray& time, const IntArray& mesh_a,
                           const IntArray& face_a, const IntArray& mesh_b, const IntArray& face_b,
                           const IntArray& row_region, const IntArray& row_span_last, int32_t region_count,
-                          const DoubleArray& sample_times, const BoolArray& closed, int32_t threads) {
+                          const DoubleArray& sample_times, const BoolArray& measured, const BoolArray& closed,
+                          int32_t threads) {
     const HeldMeshes meshes = hold_meshes(meshes_in);
     const HeldRows rows = hold_rows(time, mesh_a, face_a, mesh_b, face_b);
     if (row_region.ndim() != 1 || row_region.size() != time.size() || row_span_last.ndim() != 1 ||
@@ -127,12 +128,16 @@ py::dict region_depths_py(const py::list& meshes_in, const DoubleArray& time, co
     if (closed.ndim() != 1 || static_cast<size_t>(closed.size()) != meshes.views.size())
         throw std::invalid_argument("closed needs one flag per mesh");
     const std::vector<double> times = sorted_times(sample_times);
+    if (measured.ndim() != 1 || static_cast<size_t>(measured.size()) != times.size())
+        throw std::invalid_argument("measured needs one flag per sample time");
+    const std::vector<char> measured_flags(measured.data(), measured.data() + measured.size());
     const std::vector<char> closed_flags(closed.data(), closed.data() + closed.size());
     RowRegions grouping{row_region.data(), row_span_last.data(), region_count};
     RegionDepthSamples samples;
     {
         py::gil_scoped_release release;
-        samples = measure_region_depths(meshes.views, rows.rows, grouping, times, closed_flags, threads);
+        samples = measure_region_depths(meshes.views, rows.rows, grouping, times, measured_flags, closed_flags,
+                                        threads);
     }
     py::dict out;
     out["region"] = to_array(samples.region);
@@ -155,7 +160,9 @@ void define_regions(py::module_& m) {
           "row_region, region_count, row_last_sampled, row_span_first, row_span_last.");
     m.def("region_depths", &region_depths_py, py::arg("meshes"), py::arg("time"), py::arg("mesh_a"), py::arg("face_a"),
           py::arg("mesh_b"), py::arg("face_b"), py::arg("row_region"), py::arg("row_span_last"),
-          py::arg("region_count"), py::arg("sample_times"), py::arg("closed"), py::arg("threads"),
-          "Depth samples of every region -> dict of region, sample (index into sample_times), penetration, "
-          "intersection_length, box_min, box_max ((S, 3)), depth_evaluations.");
+          py::arg("region_count"), py::arg("sample_times"), py::arg("measured"), py::arg("closed"),
+          py::arg("threads"),
+          "Depth samples of every region at its first and last samples and the samples flagged in measured "
+          "(bool per sample time) between them -> dict of region, sample (index into sample_times), "
+          "penetration, intersection_length, box_min, box_max ((S, 3)), depth_evaluations.");
 }

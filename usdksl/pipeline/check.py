@@ -188,7 +188,7 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
     table, kept = concatenate_pieces(planned.segments, tables)
     clock = StageClock.from_metadata(planned.segments[0][1].metadata)
     regions = concatenate_regions([find_regions(segment.meshes, segment_table, segment.times, options.thickness,
-                                                segment_range)
+                                                segment_range, clock.frames_per_time_code)
                                    for (segment_range, segment), segment_table in zip(planned.segments, tables)],
                                   table, kept)
     comparison = None

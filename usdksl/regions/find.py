@@ -16,26 +16,33 @@ from ..contacts.table import ContactTable
 from ..reading.positions import vertex_points_at
 from ..unmasked import distinct_sorted
 from .closed import closed_meshes
-from .depth import region_depths
+from .depth import depth_sample_flags, region_depths
 from .grouping import group_regions
 from .table import INTERSECTION_LENGTH, PENETRATION, DepthSamples, RegionTable
 
 
 def find_regions(meshes: Sequence, table: ContactTable, sample_times: np.ndarray, thickness: float = 0.0,
-                 time_range: Optional[Tuple[float, float]] = None) -> RegionTable:
-    """The regions of ``table`` (the contacts of ``meshes``, one piece of constant topology), measured at
-    ``sample_times`` (the piece's samples; only those inside ``time_range`` are used). With last contacts in
-    ``table`` a region's last_time is the latest continuous last contact of its face pairs."""
+                 time_range: Optional[Tuple[float, float]] = None, frames_per_time_code: float = 1.0) -> RegionTable:
+    """The regions of ``table`` (the contacts of ``meshes``, one piece of constant topology), grouped at
+    ``sample_times`` (the piece's samples; only those inside ``time_range`` are used) and measured at each
+    region's first and last samples and the samples between on whole frames
+    (:func:`usdksl.regions.depth.depth_sample_flags`; ``frames_per_time_code`` from the stage's clock,
+    :attr:`usdksl.clock.StageClock.frames_per_time_code`). With last contacts in ``table`` a region's last_time
+    is the latest continuous last contact of its face pairs."""
     if table.count == 0:
         return RegionTable.empty(table.paths)
     times = np.asarray(sample_times, dtype=np.float64)
+    # flagged over the whole piece, so that a sample's flag does not depend on where a time range cuts it
+    measured = depth_sample_flags(times, frames_per_time_code)
     if time_range is not None:
-        times = times[(times >= time_range[0]) & (times <= time_range[1])]
+        inside = (times >= time_range[0]) & (times <= time_range[1])
+        times, measured = times[inside], measured[inside]
     if times.size == 0:   # a piece of one instant: its contacts are all initial, at the range start
         times = distinct_sorted(table.time)
+        measured = np.ones(times.size, bool)
     grouping = group_regions(meshes, table, times, thickness)
     closed = closed_meshes(meshes)
-    samples = region_depths(meshes, table, grouping, times, closed)
+    samples = region_depths(meshes, table, grouping, times, closed, measured=measured)
     return fold(meshes, table, grouping.row_region, grouping.region_count, grouping.row_last_sampled, samples,
                 closed)
 

@@ -8,11 +8,12 @@ share a vertex, on either side) and overlap in time (see :func:`usdksl.regions.g
 Regions are numbered from 1 in the order of their earliest contact row: the canonical row order of the
 contact table, so the numbers are the same on every run of the same shot and settings.
 
-Depth (:mod:`usdksl.regions.depth`): at every sample of a region's span, how far one surface goes
-through the other. Where a side is a closed (watertight) mesh it is the penetration depth: the largest
-distance from that mesh's surface of a point of the other mesh's region faces inside it (scene units).
-Where neither side is closed (cloth on cloth, a self region) it is the length of the two surfaces'
-intersection curve within the region (scene units). ``depth_measure`` says which.
+Depth (:mod:`usdksl.regions.depth`): at the measured samples of a region's span (its first and last, and
+the samples on whole frames between them), how far one surface goes through the other. Where a side is a
+closed (watertight) mesh it is the penetration depth: the largest distance from that mesh's surface of a
+point of the other mesh's region faces inside it (scene units). Where neither side is closed (cloth on
+cloth, a self region) it is the length of the two surfaces' intersection curve within the region (scene
+units). ``depth_measure`` says which.
 """
 
 from __future__ import annotations
@@ -36,8 +37,8 @@ NO_REGION = -1
 
 @dataclass
 class DepthSamples:
-    """Depth measured at the samples of each region's span: one row per (region, sample), sorted by
-    region, then time. Lengths in scene units, times in time codes."""
+    """Depth at the measured samples of each region's span (:mod:`usdksl.regions.depth`): one row per
+    (region, measured sample), sorted by region, then time. Lengths in scene units, times in time codes."""
 
     region: np.ndarray               # int32[S], row index into the RegionTable
     time: np.ndarray                 # float64[S]
@@ -63,8 +64,9 @@ class RegionTable:
                                   #   with last contacts, the latest continuous last contact of its face pairs
     face_pairs: np.ndarray        # int64[R]
     depth_measure: np.ndarray     # object[R]: PENETRATION or INTERSECTION_LENGTH
-    max_depth: np.ndarray         # float64[R]: largest depth over its samples (0 when nothing crosses at a sample)
-    max_depth_time: np.ndarray    # float64[R]: the sample where it is largest (first_time when it is 0)
+    max_depth: np.ndarray         # float64[R]: largest depth over its measured samples (0 when nothing crosses
+                                  #   at any of them)
+    max_depth_time: np.ndarray    # float64[R]: the measured sample where it is largest (first_time when it is 0)
     max_intersection_length: np.ndarray  # float64[R]
     center: np.ndarray            # float64[R, 3]: world-space centre of box_min..box_max
     box_min: np.ndarray           # float64[R, 3]: world-space box of the region at max_depth_time

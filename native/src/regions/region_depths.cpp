@@ -1,7 +1,7 @@
 /// @file region_depths.cpp
-/// @brief Regions laid out per sample, each sample measured on one thread:
-///        closed meshes placed and refit, then each active region's segments
-///        and depth.
+/// @brief Regions laid out per measured sample, each sample measured on one
+///        thread: closed meshes placed and refit, then each active region's
+///        segments and depth.
 
 #include "usdksl/regions/region_depths.hpp"
 
@@ -35,6 +35,7 @@ struct RegionPlan {
     int32_t first = 0;  // sample indices
     int32_t last = 0;
     int64_t output = 0;  // its first output row
+    int64_t measured_count = 0;
     bool into_a = false;  // penetration into closed side a (of side b's faces)
     bool into_b = false;
 };
@@ -75,9 +76,12 @@ bool boxes_apart(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
 
 RegionDepthSamples measure_region_depths(const std::vector<MeshView>& meshes, const ContactRows& rows,
                                          const RowRegions& grouping, const std::vector<double>& sample_times,
-                                         const std::vector<char>& closed, int32_t threads) {
+                                         const std::vector<char>& measured, const std::vector<char>& closed,
+                                         int32_t threads) {
     check_contact_rows(meshes, rows);
     if (closed.size() != meshes.size()) throw std::invalid_argument("closed needs one flag per mesh");
+    if (measured.size() != sample_times.size())
+        throw std::invalid_argument("measured needs one flag per sample time");
     const int32_t region_count = grouping.region_count;
     const int32_t sample_count = static_cast<int32_t>(sample_times.size());
     RegionDepthSamples out;
@@ -89,6 +93,11 @@ RegionDepthSamples measure_region_depths(const std::vector<MeshView>& meshes, co
             throw std::invalid_argument("row " + std::to_string(r) + " has no region in 0.." +
                                         std::to_string(region_count - 1));
     }
+
+    // flagged_before[s]: flagged samples before s, so a region's row count and each sample's output row
+    // are a difference of two entries.
+    std::vector<int64_t> flagged_before(static_cast<size_t>(sample_count) + 1, 0);
+    for (int32_t s = 0; s < sample_count; ++s) flagged_before[s + 1] = flagged_before[s] + (measured[s] != 0);
 
     const std::vector<FaceIndex> faces = face_indexes_of_rows(meshes, rows);
     const std::vector<std::vector<SampleBlend>> blends = sample_blends_of_rows(meshes, rows, sample_times);
@@ -128,8 +137,20 @@ RegionDepthSamples measure_region_depths(const std::vector<MeshView>& meshes, co
         plan.into_a = !self && closed[plan.mesh_a];
         plan.into_b = !self && closed[plan.mesh_b];
         plan.output = total;
-        total += plan.last - plan.first + 1;
+        // its first and last samples, whatever their flags, and the flagged samples strictly between
+        plan.measured_count = (plan.last > plan.first ? 2 : 1) +
+                              std::max<int64_t>(0, flagged_before[plan.last] - flagged_before[plan.first + 1]);
+        total += plan.measured_count;
     }
+    const auto is_measured = [&](const RegionPlan& plan, int32_t s) {
+        return s == plan.first || s == plan.last || measured[s] != 0;
+    };
+    // The output row of a measured sample s of a plan: rows run over its measured samples in order.
+    const auto output_row = [&](const RegionPlan& plan, int32_t s) -> int64_t {
+        if (s == plan.first) return plan.output;
+        if (s == plan.last) return plan.output + plan.measured_count - 1;
+        return plan.output + 1 + (flagged_before[s] - flagged_before[plan.first + 1]);
+    };
 
     // The penetrating side's faces of each region: side b's faces go into a, side a's into b.
     const auto side_faces = [&](int32_t g, bool side_a) {
@@ -153,13 +174,14 @@ RegionDepthSamples measure_region_depths(const std::vector<MeshView>& meshes, co
     Lists active;
     active.start.assign(static_cast<size_t>(sample_count) + 1, 0);
     for (const RegionPlan& plan : plans)
-        for (int32_t s = plan.first; s <= plan.last; ++s) ++active.start[s + 1];
+        for (int32_t s = plan.first; s <= plan.last; ++s) active.start[s + 1] += is_measured(plan, s);
     for (int32_t s = 0; s < sample_count; ++s) active.start[s + 1] += active.start[s];
     active.items.resize(static_cast<size_t>(total));
     {
         std::vector<int64_t> next(active.start.begin(), active.start.end() - 1);
         for (int32_t g = 0; g < region_count; ++g)
-            for (int32_t s = plans[g].first; s <= plans[g].last; ++s) active.items[static_cast<size_t>(next[s]++)] = g;
+            for (int32_t s = plans[g].first; s <= plans[g].last; ++s)
+                if (is_measured(plans[g], s)) active.items[static_cast<size_t>(next[s]++)] = g;
     }
 
     // Closed meshes some region goes into: their topology, on their positions at the first sample needed.
@@ -254,7 +276,7 @@ RegionDepthSamples measure_region_depths(const std::vector<MeshView>& meshes, co
                     box.add(depth.inside_max);
                 }
             }
-            const size_t at = static_cast<size_t>(plan.output + (s - plan.first));
+            const size_t at = static_cast<size_t>(output_row(plan, s));
             out.region[at] = g;
             out.sample[at] = s;
             out.penetration[at] = penetration;

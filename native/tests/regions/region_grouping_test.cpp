@@ -159,7 +159,8 @@ TEST(RegionDepths, BoxThroughASheetAtEverySampleOfItsSpan) {
     const std::vector<int32_t> span_last(64, 4);
     const RowRegions grouping{row_region.data(), span_last.data(), 1};
     const std::vector<double> times = integer_times(5);
-    const RegionDepthSamples d = measure_region_depths(meshes, rows.view(), grouping, times, {0, 1}, 2);
+    const std::vector<char> every(times.size(), 1);
+    const RegionDepthSamples d = measure_region_depths(meshes, rows.view(), grouping, times, every, {0, 1}, 2);
     ASSERT_EQ(d.region.size(), 4u) << "samples 1..4";
     const double accuracy = DEPTH_RELATIVE_ACCURACY * 0.5 * std::sqrt(2.0);  // the sheet's longest edge
     for (size_t i = 0; i < d.region.size(); ++i) {
@@ -171,6 +172,54 @@ TEST(RegionDepths, BoxThroughASheetAtEverySampleOfItsSpan) {
     }
     EXPECT_GT(d.penetration[1], 0.45) << "at time 2 the sheet halves the box";
     // the sides are not closed: no penetration is measured
-    const RegionDepthSamples open = measure_region_depths(meshes, rows.view(), grouping, times, {0, 0}, 1);
+    const RegionDepthSamples open = measure_region_depths(meshes, rows.view(), grouping, times, every, {0, 0}, 1);
     for (double p : open.penetration) EXPECT_TRUE(std::isnan(p));
+}
+
+TEST(RegionDepths, AContactBetweenFramesIsMeasuredAtItsFirstAndLastSamples) {
+    // Samples every quarter time code over 0..4; the flags mark whole time codes only (frames, say).
+    // A static sheet at z = 0; a box of half-size 0.5 rises through it, centre at z = -1 + t / 2.
+    const StoredMesh plane = sheet(8, -2.03, 1.97, -1.98, 2.02, {0.0}, [](double) { return 0.0; });
+    const StoredMesh resting = box(Vec3::Zero(), Vec3(0.5, 0.5, 0.5));
+    StoredMesh cube = resting;
+    cube.times = {0.0, 4.0};
+    cube.points.clear();
+    for (double shift : {-1.0, 1.0})
+        for (int v = 0; v < 8; ++v)
+            cube.points.insert(cube.points.end(), {resting.points[3 * v], resting.points[3 * v + 1],
+                                                   resting.points[3 * v + 2] + shift});
+    const std::vector<MeshView> meshes = {plane.view(), cube.view()};
+    std::vector<double> times;
+    std::vector<char> whole;
+    for (int k = 0; k <= 16; ++k) {
+        times.push_back(0.25 * k);
+        whole.push_back(k % 4 == 0);
+    }
+    // Region 0 first touches at 1.1 (its first sample is 1.25) and its span ends at sample 11 (2.75); region 1
+    // lies between two whole time codes (2.25 to 2.5); region 2 is one sample long (3.75).
+    Rows rows;
+    for (int32_t f = 0; f < 64; ++f) rows.add(1.1, 0, f, 1, 0);
+    rows.add(2.1, 0, 0, 1, 1);
+    rows.add(3.6, 0, 1, 1, 2);
+    std::vector<int32_t> row_region(64, 0), span_last(64, 11);
+    row_region.insert(row_region.end(), {1, 2});
+    span_last.insert(span_last.end(), {10, 15});
+    const RowRegions grouping{row_region.data(), span_last.data(), 3};
+    const RegionDepthSamples d = measure_region_depths(meshes, rows.view(), grouping, times, whole, {0, 1}, 2);
+    EXPECT_EQ(d.region, (std::vector<int32_t>{0, 0, 0, 1, 1, 2}));
+    EXPECT_EQ(d.sample, (std::vector<int32_t>{5, 8, 11, 9, 10, 15}))
+        << "first (1.25), the whole time code 2 and last (2.75); 2.25 and 2.5; 3.75";
+    // The measured samples are those rows of a run that measures every sample.
+    const RegionDepthSamples all =
+        measure_region_depths(meshes, rows.view(), grouping, times, std::vector<char>(times.size(), 1), {0, 1}, 1);
+    for (size_t i = 0; i < d.region.size(); ++i) {
+        size_t j = 0;
+        while (j < all.region.size() && !(all.region[j] == d.region[i] && all.sample[j] == d.sample[i])) ++j;
+        ASSERT_LT(j, all.region.size()) << i;
+        EXPECT_EQ(d.penetration[i], all.penetration[j]) << i;
+        EXPECT_EQ(d.intersection_length[i], all.intersection_length[j]) << i;
+    }
+    EXPECT_GT(d.penetration[1], 0.45) << "at time 2 the sheet halves the box";
+    EXPECT_THROW(measure_region_depths(meshes, rows.view(), grouping, times, std::vector<char>(3, 1), {0, 1}, 1),
+                 std::invalid_argument);
 }
