@@ -324,6 +324,10 @@ def _to_world(local: np.ndarray, matrix: np.ndarray, out: np.ndarray) -> None:
     """out = [local, 1] @ matrix (USD row vectors), projective matrices included. ``local`` is [N, 3] or a
     stack [K, N, 3] of samples, ``matrix`` [4, 4], or a stack [K, 4, 4] with one per sample of a stack (numpy
     multiplies a stack slice by slice: the same numbers as one by one)."""
+    if local.dtype != out.dtype:
+        # numpy multiplies mixed precisions element by element, several times slower than after one cast
+        # (the same doubles: a float widens exactly)
+        local = local.astype(out.dtype)
     with np.errstate(invalid="ignore", over="ignore"):   # non-finite input is reported by the caller
         np.matmul(local, matrix[..., :3, :3], out=out)
         out += matrix[..., None, 3, :3] if matrix.ndim == 3 else matrix[3, :3]
