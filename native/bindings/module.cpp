@@ -11,6 +11,7 @@ void define_ccd(py::module_& m);
 void define_check_options(py::module_& m);
 void define_collision(py::module_& m);
 void define_regions(py::module_& m);
+void define_sample_motion(py::module_& m);
 
 PYBIND11_MODULE(_native, m) {
     m.doc() = "usdksl native core (private; use the usdksl package)";
@@ -22,4 +23,5 @@ PYBIND11_MODULE(_native, m) {
     define_check_options(m);   // before find_contacts, whose signature names it
     define_collision(m);
     define_regions(m);
+    define_sample_motion(m);
 }

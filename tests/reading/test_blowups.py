@@ -395,3 +395,22 @@ def test_glitch_and_blowup_messages_carry_their_kinds(build):
     kinds = {message.kind for message in result.messages if "glitch" in message.text or "blows up" in message.text}
     assert kinds == {BLOW_UP, CACHE_GLITCH}
     assert [m.kind for m in result.messages if "blows up" in m.text] == [BLOW_UP]
+
+
+def test_the_native_motion_summary_equals_numpy_on_float_and_double_points():
+    from usdksl import _native
+    rng = np.random.default_rng(7)
+    for points in (rng.normal(size=(30, 200, 3)) * 10.0 ** rng.integers(-6, 6, size=(30, 1, 1)),
+                   rng.normal(size=(25, 99, 3)).astype(np.float32),
+                   rng.normal(size=(25, 99, 3)).astype(np.float32)[:, ::2]):   # strided: read as doubles
+        doubles = points.astype(np.float64)
+        steps = doubles[1:] - doubles[:-1]
+        lengths = np.sqrt((steps * steps).sum(axis=2).max(axis=1))
+        # the sums of three squares may round differently: a few ulps, far inside EXCESS_BOUND_FACTOR's margin
+        np.testing.assert_allclose(_native.longest_steps(points), lengths, rtol=4 * np.finfo(float).eps, atol=0)
+        lowest, highest = _native.sample_boxes(points)
+        assert np.array_equal(lowest, doubles.min(axis=1)) and np.array_equal(highest, doubles.max(axis=1))
+    # integer coordinates: every sum is exact, so the lengths are
+    whole = rng.integers(-1000, 1000, size=(12, 40, 3)).astype(np.float32)
+    exact = np.sqrt(np.max(np.sum((whole[1:].astype(np.int64) - whole[:-1].astype(np.int64)) ** 2, axis=2), axis=1))
+    assert np.array_equal(_native.longest_steps(whole), exact)

@@ -5,7 +5,8 @@ Cloth solvers blow up: a vertex shoots off for a frame or two and comes back. Th
 the core's tolerances are local, so the rest of the shot costs and answers the same), but the
 user is told where the cache is broken.
 
-Detection, per deforming mesh and per pair of consecutive samples (numpy over vertices and over
+Detection, per deforming mesh and per pair of consecutive samples (the longest step of every pair in one
+native pass, usdksl._native.longest_steps; numpy over the vertices of the few pairs it cannot rule out, in
 blocks of steps, Python only over the blocks):
 
 * the mesh's common motion over the step is the per-axis median of its vertices' displacements
@@ -61,6 +62,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .. import _native
 from ..unmasked import median
 
 #: A vertex whose motion between two samples, beyond its mesh's common motion, exceeds this many
@@ -170,15 +172,7 @@ class Glitch:
 
 def sample_boxes(points: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """(lowest, highest): float64[K, 3] bounding box of each sample of float[K, N, 3] points (scene units)."""
-    lowest = np.empty((points.shape[0], 3), dtype=np.float64)
-    highest = np.empty((points.shape[0], 3), dtype=np.float64)
-    samples_per_block = max(1, BLOWUP_BLOCK_VALUES // max(1, 3 * points.shape[1]))
-    for first in range(0, points.shape[0], samples_per_block):
-        # [k, 3, N] copies: numpy reduces a contiguous row of N values many times faster than the
-        # stride-3 column of [k, N, 3]; minimum and maximum are exact either way
-        coordinates = np.ascontiguousarray(points[first:first + samples_per_block].transpose(0, 2, 1))
-        lowest[first:first + samples_per_block] = coordinates.min(axis=2)
-        highest[first:first + samples_per_block] = coordinates.max(axis=2)
+    lowest, highest = _native.sample_boxes(points)   # one pass, no copy; minimum and maximum are exact
     return lowest, highest
 
 
@@ -200,28 +194,19 @@ def find_blowups(prim: str, times: np.ndarray, points: np.ndarray, glitches: Seq
     size = mesh_size(points) if size is None else size
     threshold = BLOWUP_SIZE_FACTOR * size
     found: List[Blowup] = []
+    # one native pass over every step (no float64 copy of the samples); only the suspects are measured
+    largest = _native.longest_steps(points)
+    suspects = np.nonzero(~(EXCESS_BOUND_FACTOR * largest <= threshold))[0]  # NaN stays suspect
     steps_per_block = max(1, BLOWUP_BLOCK_VALUES // (3 * points.shape[1]))
-    # one set of temporaries for every block: fresh arrays of this size would be pages the kernel zeroes anew
-    block_steps = min(steps_per_block, points.shape[0] - 1)
-    doubles = np.empty((block_steps + 1,) + points.shape[1:], dtype=np.float64)
-    step_buffer = np.empty((block_steps,) + points.shape[1:], dtype=np.float64)
-    squared_buffer = np.empty(step_buffer.shape[:2], dtype=np.float64)
-    for first in range(0, points.shape[0] - 1, steps_per_block):
-        last = min(first + steps_per_block, points.shape[0] - 1)
-        block = doubles[:last - first + 1]
-        np.copyto(block, points[first:last + 1])   # float32 points: the same doubles
-        steps = np.subtract(block[1:], block[:-1], out=step_buffer[:last - first])
-        squared = np.einsum("kni,kni->kn", steps, steps, out=squared_buffer[:last - first])
-        largest = np.sqrt(squared.max(axis=1))
-        suspect = np.nonzero(~(EXCESS_BOUND_FACTOR * largest <= threshold))[0]  # NaN stays suspect
-        if suspect.size == 0:
-            continue
-        steps = steps[suspect]
+    for first in range(0, suspects.size, steps_per_block):
+        suspect = suspects[first:first + steps_per_block]
+        # float32 points: the same doubles
+        steps = points[suspect + 1].astype(np.float64) - points[suspect].astype(np.float64)
         excess = np.linalg.norm(steps - median(steps, axis=1, keepdims=True), axis=2)
         for row, vertex in zip(*np.nonzero(excess > threshold)):
             k = suspect[row]
-            found.append(Blowup(prim=prim, vertex=int(vertex), time_before=float(times[first + k]),
-                                time_after=float(times[first + k + 1]), excess=float(excess[row, vertex]),
+            found.append(Blowup(prim=prim, vertex=int(vertex), time_before=float(times[k]),
+                                time_after=float(times[k + 1]), excess=float(excess[row, vertex]),
                                 mesh_size=size))
     if glitches and found:
         part_on_step = {}   # (time before, time after) of a step into or out of a glitch: the part that jumped
