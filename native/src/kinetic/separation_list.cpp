@@ -430,8 +430,8 @@ void KineticSeparationLists::expand(int32_t list_id, int32_t a, int32_t b) {
             }
         } else if (both_leaves(list, c.a, c.b)) {
             create_entry(list_id, c.a, c.b, &father, true);
-        } else if (Vec3 normal; plane_separates(list, c.a, c.b, Vec3::Zero(), normal)) {
-            create_plane_kept_entry(list_id, c.a, c.b, &father, normal);
+        } else if (NodePlane plane; plane_separates(list, c.a, c.b, nullptr, plane)) {
+            create_plane_kept_entry(list_id, c.a, c.b, &father, plane);
         } else {
             expand(list_id, c.a, c.b);
         }
@@ -589,8 +589,8 @@ void KineticSeparationLists::step_shared_vertex_pairs() {
     shared_vertex_pairs_.resize(kept);
 }
 
-bool KineticSeparationLists::plane_separates(const List& list, int32_t a, int32_t b, const Vec3& previous,
-                                             Vec3& normal) const {
+bool KineticSeparationLists::plane_separates(const List& list, int32_t a, int32_t b, const NodePlane* previous,
+                                             NodePlane& plane) const {
     if (list.self) return false;  // nodes of one mesh may share vertices, which no plane separates
     const StepBoxTree& tree_a = *trees_[list.mesh_a];
     const StepBoxTree& tree_b = *trees_[list.mesh_b];
@@ -598,7 +598,20 @@ bool KineticSeparationLists::plane_separates(const List& list, int32_t a, int32_
     const auto [first_b, last_b] = tree_b.triangles_under(b);
     if (last_a - first_a > NODE_PLANE_MAX_TRIANGLES || last_b - first_b > NODE_PLANE_MAX_TRIANGLES) return false;
     const double reach = node_pair_reach(tree_a, a, tree_b, b, margin_of(list), tester_.settings().tolerance);
-    return find_node_plane(tree_a, a, tree_b, b, reach, previous, normal);
+    plane.step = static_cast<int32_t>(step_index_);
+    if (!previous) return find_node_plane(tree_a, a, tree_b, b, reach, Vec3::Zero(), plane.normal, &plane.gap);
+    // The trees' positions at this step's begin are those at the last one's end.
+    const bool begin_known = previous->step + 1 == step_index_;
+    return find_node_plane(tree_a, a, tree_b, b, reach, previous->normal, plane.normal, &plane.gap,
+                           begin_known ? &previous->gap : nullptr);
+}
+
+int64_t KineticSeparationLists::plane_quiet_until(const List& list, int32_t a, int32_t b,
+                                                  const NodePlane& plane) const {
+    return node_plane_quiet_until(*trees_[list.mesh_a], a, *trees_[list.mesh_b], b, plane.normal, plane.gap,
+                                  margin_of(list), tester_.settings().tolerance, step_index_,
+                                  static_cast<int64_t>(times_.size()) - 1, travel_[list.mesh_a].data(),
+                                  travel_[list.mesh_b].data());
 }
 
 template <class Keeps>
@@ -615,49 +628,53 @@ bool KineticSeparationLists::coarsen_to_plane(int32_t id) {
     const Entry& e = entries_[id];
     const List& list = lists_[e.list];
     if (list.self || e.fa < 0) return false;
-    Vec3 normal;
-    if (!plane_separates(list, e.fa, e.fb, Vec3::Zero(), normal)) return false;
+    NodePlane plane;
+    if (!plane_separates(list, e.fa, e.fb, nullptr, plane)) return false;
     // Ascend to the highest pair a plane keeps apart.
     NodePair top{e.fa, e.fb};
     NodePair up;
     const bool has_up = climb(list, top, up, [&](const NodePair& father) {
-        Vec3 father_normal;
-        if (!plane_separates(list, father.a, father.b, normal, father_normal)) return false;
-        normal = father_normal;
+        NodePlane father_plane;
+        if (!plane_separates(list, father.a, father.b, &plane, father_plane)) return false;
+        plane = father_plane;
         return true;
     });
     const int32_t list_id = e.list;
     ++counters_.fathers_do_not_overlap_events;
     remove_descendants(list_id, top.a, top.b);
-    create_plane_kept_entry(list_id, top.a, top.b, has_up ? &up : nullptr, normal);
+    create_plane_kept_entry(list_id, top.a, top.b, has_up ? &up : nullptr, plane);
     return true;
 }
 
 void KineticSeparationLists::create_plane_kept_entry(int32_t list_id, int32_t a, int32_t b, const NodePair* father,
-                                                     const Vec3& normal) {
+                                                     const NodePlane& plane) {
     const int32_t id = create_entry(list_id, a, b, father, false);
     if (id < 0) return;
-    keep_plane(entries_[id], normal);
+    keep_plane(id, plane);
     ++counters_.plane_kept_steps;
 }
 
-void KineticSeparationLists::keep_plane(Entry& e, const Vec3& normal) {
+void KineticSeparationLists::keep_plane(int32_t id, const NodePlane& plane) {
+    Entry& e = entries_[id];
+    e.quiet_until = static_cast<int32_t>(plane_quiet_until(lists_[e.list], e.a, e.b, plane));
+    // Created in this step (run() sets the wake step of the entry it updates).
+    wake_step_[id] = std::max(wake_step_[id], e.quiet_until);
     if (!e.plane_kept) {
-        if (free_plane_normals_.empty()) {
-            e.certificate = static_cast<int32_t>(plane_normals_.size());
-            plane_normals_.push_back(normal);
+        if (free_kept_planes_.empty()) {
+            e.certificate = static_cast<int32_t>(kept_planes_.size());
+            kept_planes_.push_back(plane);
         } else {
-            e.certificate = free_plane_normals_.back();
-            free_plane_normals_.pop_back();
+            e.certificate = free_kept_planes_.back();
+            free_kept_planes_.pop_back();
         }
         e.plane_kept = true;
     }
-    plane_normals_[e.certificate] = normal;
+    kept_planes_[e.certificate] = plane;
 }
 
 void KineticSeparationLists::release_plane(Entry& e) {
     if (!e.plane_kept) return;
-    free_plane_normals_.push_back(e.certificate);
+    free_kept_planes_.push_back(e.certificate);
     e.certificate = -1;
     e.plane_kept = false;
 }
@@ -746,10 +763,10 @@ void KineticSeparationLists::update(int32_t id) {
         e.quiet_until = static_cast<int32_t>(quiet);
         return;
     }
-    Vec3 normal;
-    if (plane_separates(list, e.a, e.b, e.plane_kept ? plane_normals_[e.certificate] : Vec3::Zero(), normal)) {
+    NodePlane plane;
+    if (plane_separates(list, e.a, e.b, e.plane_kept ? &kept_planes_[e.certificate] : nullptr, plane)) {
         if (!e.plane_kept) ++counters_.bv_overlap_events;
-        keep_plane(e, normal);
+        keep_plane(id, plane);
         ++counters_.plane_kept_steps;
         return;
     }
@@ -802,8 +819,8 @@ void KineticSeparationLists::run(const ProgressCallback& progress, WindowStop* s
                     create_entry(id, 0, 0, nullptr, false);
                 } else if (both_leaves(list, 0, 0)) {
                     create_entry(id, 0, 0, nullptr, true);
-                } else if (Vec3 normal; plane_separates(list, 0, 0, Vec3::Zero(), normal)) {
-                    create_plane_kept_entry(id, 0, 0, nullptr, normal);
+                } else if (NodePlane plane; plane_separates(list, 0, 0, nullptr, plane)) {
+                    create_plane_kept_entry(id, 0, 0, nullptr, plane);
                 } else {
                     expand(id, 0, 0);
                 }

@@ -70,6 +70,36 @@ void StepBoxTree::index_triangles_under() {
         stack.push_back({topology_.right[node], false});
         stack.push_back({topology_.left[node], false});
     }
+    // Each small node's distinct vertices, found by marking them with the
+    // node's id while walking its triangles' corners: once per tree, so
+    // heights under a node need not walk each vertex's ~6 corners per step.
+    const std::vector<Triangle>& triangles = *triangles_;
+    std::vector<int32_t> seen_by(static_cast<size_t>(plans_->vertex_count()), -1);
+    vertices_first_.assign(static_cast<size_t>(node_count) + 1, 0);
+    node_vertices_.clear();
+    for (int32_t node = 0; node < node_count; ++node) {
+        vertices_first_[node] = static_cast<int32_t>(node_vertices_.size());
+        const int32_t count = leaf_last_[node] - leaf_first_[node];
+        if (count > NODE_PLANE_MAX_TRIANGLES) continue;
+        if (topology_.is_leaf(node)) {
+            // A leaf's list is its triangle, unless the triangle repeats a vertex.
+            const Triangle& t = triangles[static_cast<size_t>(topology_.triangle[node])];
+            if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) continue;
+        }
+        const size_t begin = node_vertices_.size();
+        for (int32_t i = leaf_first_[node]; i < leaf_last_[node]; ++i) {
+            for (int32_t v : triangles[static_cast<size_t>(leaf_triangles_[static_cast<size_t>(i)])]) {
+                int32_t& mark = seen_by[static_cast<size_t>(v)];
+                if (mark == node) continue;
+                mark = node;
+                node_vertices_.push_back(v);
+            }
+        }
+        // Ascending: the positions they read lie in memory order.
+        std::sort(node_vertices_.begin() + static_cast<std::ptrdiff_t>(begin), node_vertices_.end());
+    }
+    vertices_first_[static_cast<size_t>(node_count)] = static_cast<int32_t>(node_vertices_.size());
+    node_vertices_.shrink_to_fit();
 }
 
 void StepBoxTree::fit(double t0, double t1) {

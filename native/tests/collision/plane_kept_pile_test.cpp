@@ -2,7 +2,8 @@
 /// @brief A pile of tilted cards that sway together, slide over each other
 ///        and finally tip onto each other gets exactly brute force's contacts
 ///        from the kinetic check, with planes keeping card pairs whole on the
-///        way (kinetic/node_plane.hpp).
+///        way (kinetic/node_plane.hpp); two cards sinking onto each other
+///        sleep on their plane and still touch when they do.
 
 #include "animations.hpp"
 #include "usdksl/collision/check.hpp"
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <map>
 #include <tuple>
+#include <vector>
 
 using namespace usdksl;
 
@@ -75,5 +77,40 @@ TEST(PlaneKeptPile, ATippingPileGetsBruteForcesContactsWithPlanesKeepingCardPair
         EXPECT_EQ(first_contacts(pile, Method::KineticSeparationList, thickness, &counters), brute)
             << "thickness " << thickness;
         EXPECT_GT(counters.plane_kept_steps, 100) << "planes must keep the sliding cards' pairs whole";
+    }
+}
+
+TEST(PlaneKeptPile, ACardSinkingOntoAnotherSleepsOnTheirPlaneAndTouchesOnTime) {
+    // Tilted, parallel, shifted within their plane so that the sinking
+    // card's corners come down on the lower card's faces: every first
+    // contact comes at the time the gap along the normal closes.
+    const Eigen::Matrix3d r = animations::tilt();
+    const int samples = 40;
+    const double start = 0.71, speed = 0.02;  // contact at time code 35.5
+    std::vector<MeshAnimation> cards;
+    cards.push_back(animations::sheet(4, samples, [&](double x, double z, int) { return Vec3(r * Vec3(x, 0.0, z)); }));
+    cards.push_back(animations::sheet(4, samples, [&](double x, double z, int k) {
+        return Vec3(r * Vec3(x + 0.03, start - speed * k, z + 0.05));
+    }));
+    // Far off, a card swaying on a curve puts a breakpoint at every sample:
+    // else the merged flightplans move the pair in one step, which no plane
+    // keeps apart.
+    cards.push_back(animations::sheet(2, samples, [&](double x, double z, int k) {
+        return Vec3(x + 10.0, 0.2 * std::sin(0.3 * k), z);
+    }));
+    const double touch = start / speed;
+    for (double thickness : {0.0, 0.004}) {
+        const auto brute = first_contacts(cards, Method::BruteForce, thickness);
+        ASSERT_FALSE(brute.empty());
+        Counters counters;
+        const auto kinetic = first_contacts(cards, Method::KineticSeparationList, thickness, &counters);
+        EXPECT_EQ(kinetic, brute) << "thickness " << thickness;
+        // The gap closes to the thickness `thickness / speed` time codes early.
+        const double expected = touch - thickness / speed;
+        for (const auto& [key, time] : kinetic) EXPECT_NEAR(time, expected, 1e-3) << "thickness " << thickness;
+        // Looked at on every step it holds on, the card pair's plane (the
+        // root pair's, then its children's near the touch) counts 50 steps.
+        EXPECT_GT(counters.plane_kept_steps, 0);
+        EXPECT_LT(counters.plane_kept_steps, 25) << "the kept pairs must sleep on their planes";
     }
 }

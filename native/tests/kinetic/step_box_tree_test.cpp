@@ -3,7 +3,9 @@
 ///        box of the step box tree encloses the vertices under it, probed at
 ///        many times inside each step; each node's recorded shift holds the
 ///        displacement of every vertex under it, and is narrow for a mesh
-///        that moves rigidly however far it travels.
+///        that moves rigidly however far it travels; the tree lists exactly
+///        the distinct vertices under each node small enough to be asked for
+///        a separating plane.
 
 #include "animations.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
@@ -161,4 +163,54 @@ TEST(StepBoxTree, BoxesOfAMeshThatNeverMovesHoldForEveryStep) {
         tree.fit(t0, t0 + 1.0);
         EXPECT_LE(worst_overhang(tree, plans, under, t0 + 0.5, 0.5), 0.0);
     }
+}
+
+namespace {
+
+/// Checks vertices_under() of every node against the distinct vertices
+/// under it (brute force); returns how many nodes have a list.
+int check_vertices_under(const MeshAnimation& mesh) {
+    const Flightplans plans(mesh, false);
+    StepBoxTree tree(plans, mesh.triangles, mesh.times.front());
+    tree.index_triangles_under();
+    const BvhTopology& topology = tree.topology();
+    const auto under = vertices_under(topology, mesh.triangles);
+    int listed = 0;
+    for (int32_t node = 0; node < topology.node_count(); ++node) {
+        const auto [first_triangle, last_triangle] = tree.triangles_under(node);
+        const auto [first, last] = tree.vertices_under(node);
+        const std::vector<int32_t> distinct = [&] {
+            std::set<int32_t> seen(under[node].begin(), under[node].end());
+            return std::vector<int32_t>(seen.begin(), seen.end());
+        }();
+        if (last_triangle - first_triangle > NODE_PLANE_MAX_TRIANGLES) {
+            EXPECT_EQ(first, last) << "node " << node << " is too large to be listed";
+            continue;
+        }
+        ++listed;
+        std::vector<int32_t> listed_vertices(first, last);
+        if (!topology.is_leaf(node)) {
+            EXPECT_TRUE(std::is_sorted(listed_vertices.begin(), listed_vertices.end())) << "node " << node;
+        }
+        std::sort(listed_vertices.begin(), listed_vertices.end());
+        EXPECT_EQ(listed_vertices, distinct) << "node " << node;
+    }
+    return listed;
+}
+
+} // namespace
+
+TEST(StepBoxTree, ListsTheDistinctVerticesUnderEveryNodeSmallEnoughForAPlane) {
+    // 12 x 12 quads: 288 triangles, so the nodes near the root are too
+    // large, and neighbouring subtrees share the vertices on their border.
+    const MeshAnimation cloth = animations::folding_cloth(12, 5);
+    const int listed = check_vertices_under(cloth);
+    EXPECT_GT(listed, 500);
+    EXPECT_LT(listed, 2 * static_cast<int>(cloth.triangles.size()) - 1) << "the root must be too large";
+    // Triangles that share no vertex, and a triangle that repeats one.
+    check_vertices_under(animations::random_walk(45, 4, 3, 0.0));
+    MeshAnimation repeated = animations::folding_cloth(2, 5);
+    repeated.triangles.push_back({4, 4, 7});
+    repeated.triangle_face.push_back(static_cast<int32_t>(repeated.triangle_face.size()));
+    EXPECT_EQ(check_vertices_under(repeated), 2 * static_cast<int>(repeated.triangles.size()) - 1);
 }

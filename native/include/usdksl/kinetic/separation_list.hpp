@@ -90,16 +90,23 @@ private:
         int32_t list = -1;
         int32_t a = -1, b = -1;      // tree nodes (mesh_a's tree, mesh_b's tree)
         int32_t fa = -1, fb = -1;    // BVTT father, -1 for the root pair
-        int32_t quiet_until = 0;     // no step before this one can find work for it: boxes apart, or
-                                     // an overlapping leaf pair covered ahead up to that step
+        int32_t quiet_until = 0;     // no step before this one can find work for it: boxes apart, a
+                                     // plane sure to keep the pair apart, or an overlapping leaf pair
+                                     // covered ahead up to that step
         int32_t certificate = -1;    // overlapping leaf pair: its ClearanceRun in clearance_runs_; pair kept
-                                     // whole by a plane (plane_kept): its normal in plane_normals_; else -1
+                                     // whole by a plane (plane_kept): its plane in kept_planes_; else -1
         bool overlapping_leaf = false;
         bool plane_kept = false;     // boxes meet, but a plane keeps every triangle pair beneath apart
         bool inert = false;          // leaf pair whose triangle pair is settled
         bool alive = false;
     };
     struct NodePair { int32_t a, b; };
+    /// A plane that keeps two nodes apart over the step it was found on.
+    struct NodePlane {
+        Vec3 normal;        // unit, the vertices under b above those under a
+        double gap = 0.0;   // scene units between them along it at the step's end
+        int32_t step = -1;  // the step it was found on
+    };
     /// A self leaf pair whose triangles share a vertex: its boxes overlap for
     /// the whole shot, so it leaves the front and its narrow phase follows
     /// the steps here, its certificate asked at the trees' step positions.
@@ -191,18 +198,25 @@ private:
     static FlatHashMap<uint64_t, int32_t>& index_of(List& list, int32_t a);
     /// Key of a leaf pair of `list` in leaf_tested_until_.
     uint64_t tester_key(const List& list, int32_t a, int32_t b) const;
-    /// True, setting `normal`, when (a, b) of an inter-mesh list are small
+    /// True, setting `plane`, when (a, b) of an inter-mesh list are small
     /// enough to look for a plane (NODE_PLANE_MAX_TRIANGLES) and one keeps
     /// their vertices apart beyond the narrow phase's reach over the current
-    /// step (find_node_plane, trying `previous` first).
-    bool plane_separates(const List& list, int32_t a, int32_t b, const Vec3& previous, Vec3& normal) const;
+    /// step (find_node_plane, trying `previous`'s normal first, when given:
+    /// found on the step before, its gap is the gap at this step's begin).
+    bool plane_separates(const List& list, int32_t a, int32_t b, const NodePlane* previous, NodePlane& plane) const;
+    /// First step after the current one on which `plane` may stop keeping
+    /// (a, b) apart (node_plane_quiet_until): the entry sleeps until then,
+    /// as one whose boxes are apart does.
+    int64_t plane_quiet_until(const List& list, int32_t a, int32_t b, const NodePlane& plane) const;
     /// Replaces the entry, its siblings and everything under its father by
     /// the highest ancestor pair a plane keeps apart, when its father is one;
     /// true then (the entry is gone).
     bool coarsen_to_plane(int32_t id);
-    /// create_entry() for a pair a plane (`normal`) keeps apart over the current step.
-    void create_plane_kept_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, const Vec3& normal);
-    void keep_plane(Entry& entry, const Vec3& normal);
+    /// create_entry() for a pair `plane` keeps apart over the current step.
+    void create_plane_kept_entry(int32_t list, int32_t a, int32_t b, const NodePair* father, const NodePlane& plane);
+    /// Marks the entry kept by `plane` over the current step and lets it
+    /// sleep while the plane is sure to keep it (plane_quiet_until).
+    void keep_plane(int32_t id, const NodePlane& plane);
     void release_plane(Entry& entry);
     /// @brief Counts one unit of work; calls progress every kProgressEveryWork units.
     void worked();
@@ -238,8 +252,8 @@ private:
     ChunkedVector<ClearanceRun> clearance_runs_;
     HugeVector<SharedVertexPair> shared_vertex_pairs_;
     std::vector<int32_t> free_clearance_runs_;
-    std::vector<Vec3> plane_normals_;  // unit, the vertices under b above those under a
-    std::vector<int32_t> free_plane_normals_;
+    std::vector<NodePlane> kept_planes_;  // of the entries kept by a plane, each as last found
+    std::vector<int32_t> free_kept_planes_;
 };
 
 } // namespace usdksl

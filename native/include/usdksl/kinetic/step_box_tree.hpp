@@ -30,6 +30,13 @@ constexpr int64_t NODE_TRAVEL_AHEAD_STEPS = 8;
 ///        per-mesh travel is, and for storing it in single precision).
 constexpr double NODE_TRAVEL_ROUNDING = 1e-6;
 
+/// @brief Most triangles under either node for which a separating plane is
+///        sought (kinetic/node_plane.hpp): looking costs a pass over their
+///        vertices every step, which beyond this many costs more than the
+///        leaf pairs it could spare. The tree lists the distinct vertices of
+///        nodes up to this size (StepBoxTree::vertices_under).
+constexpr int32_t NODE_PLANE_MAX_TRIANGLES = 128;
+
 /// @brief Where the vertices under a node move during one recorded step
 ///        (scene units): along each axis every vertex's displacement lies
 ///        within [center - radius, center + radius]. Two nodes that move
@@ -96,9 +103,18 @@ public:
                                              static_cast<size_t>(step % NODE_TRAVEL_AHEAD_STEPS)];
     }
 
-    /// @brief Lists the triangles under every node (once; until then
-    ///        triangles_under() is empty): only trees whose nodes are asked
-    ///        for separating planes pay for it.
+    /// @brief Lists the triangles under every node, and the distinct
+    ///        vertices under every node of at most NODE_PLANE_MAX_TRIANGLES
+    ///        triangles (once; triangles_under() and vertices_under() need
+    ///        it): only trees whose nodes are asked for separating planes pay
+    ///        for it. The triangles cost one int32 per triangle and two per
+    ///        node. The vertices cost one int32 per vertex and inner node of
+    ///        at most NODE_PLANE_MAX_TRIANGLES triangles it lies under, plus
+    ///        one per node: a vertex lies under seven levels of such nodes,
+    ///        on a level under more than one node where their triangles meet,
+    ///        so a triangulated grid (two triangles per vertex) takes about
+    ///        16.5 int32 per vertex (66 bytes), plus about 4 (16 bytes) for
+    ///        the nodes. Leaves cost nothing: their triangle is their list.
     void index_triangles_under();
 
     /// @brief The triangles under `node`, as [first, last) pointers into
@@ -106,6 +122,22 @@ public:
     std::pair<const int32_t*, const int32_t*> triangles_under(int32_t node) const {
         const int32_t* all = leaf_triangles_.data();
         return {all + leaf_first_[node], all + leaf_last_[node]};
+    }
+
+    /// @brief The distinct vertices under `node`, as [first, last) pointers
+    ///        (after index_triangles_under()), in ascending order except at a
+    ///        leaf (its triangle's corners); empty for a node of more than
+    ///        NODE_PLANE_MAX_TRIANGLES triangles. A mesh vertex is a corner of
+    ///        about six triangles: heights over these take a sixth of the
+    ///        work of a walk over the corners of triangles_under().
+    std::pair<const int32_t*, const int32_t*> vertices_under(int32_t node) const {
+        const int32_t* all = node_vertices_.data();
+        const int32_t first = vertices_first_[node], last = vertices_first_[node + 1];
+        if (first == last && topology_.is_leaf(node)) {
+            const int32_t* corners = (*triangles_)[static_cast<size_t>(topology_.triangle[node])].data();
+            return {corners, corners + 3};
+        }
+        return {all + first, all + last};
     }
 
     /// @brief Triangle ids of the mesh (what topology().triangle indexes).
@@ -133,6 +165,11 @@ private:
     /// index_triangles_under(): triangles in leaf order, and per node the
     /// range of them under it.
     std::vector<int32_t> leaf_triangles_, leaf_first_, leaf_last_;
+    /// index_triangles_under(): the distinct vertices of every inner node of
+    /// at most NODE_PLANE_MAX_TRIANGLES triangles (and of every leaf whose
+    /// triangle repeats a vertex), node after node; node n's run is
+    /// [vertices_first_[n], vertices_first_[n + 1]), empty for the others.
+    std::vector<int32_t> node_vertices_, vertices_first_;
     bool still_;  // no vertex ever moves: the first fit holds for every step
     bool fitted_ = false;
 };

@@ -17,8 +17,10 @@ struct Counters {
     /// @brief KSL: overlapping leaf pairs that stayed apart for a step and left the narrow phase.
     int64_t leaves_do_not_overlap_events = 0;
     /// @brief KSL: steps on which a front entry whose boxes meet stayed whole
-    ///        because a plane kept every vertex under one node apart from
-    ///        every vertex under the other, beyond the narrow phase's reach.
+    ///        because a plane, looked for on that step, kept every vertex
+    ///        under one node apart from every vertex under the other, beyond
+    ///        the narrow phase's reach (the steps such an entry then sleeps
+    ///        through, its gap provably open, are not counted).
     int64_t plane_kept_steps = 0;
     /// @brief KSL: narrow-phase runs over one leaf pair's flightplan steps.
     int64_t polygons_collide_events = 0;
