@@ -153,16 +153,30 @@ int64_t last_step_kept(int64_t from, int64_t steps, double contact_distance) {
     return s;
 }
 
+/// The resting sheet and the sinking one, with their trees (their vertices
+/// listed for planes). Flightplans of every sample read their meshes in
+/// place, so the members stay where they are: use it where it is made.
+struct ApproachingSheets {
+    const MeshAnimation lower = tilted_sheet(0.0, 0.0, 0.0, 0.0);
+    const MeshAnimation upper = tilted_sheet(kApproachStart, kApproachSpeed, 0.03, 0.05);
+    const Flightplans plans_a{lower, false}, plans_b{upper, false};
+    StepBoxTree tree_a{plans_a, lower.triangles, 0.0}, tree_b{plans_b, upper.triangles, 0.0};
+
+    ApproachingSheets() {
+        tree_a.index_triangles_under();
+        tree_b.index_triangles_under();
+    }
+    ApproachingSheets(const ApproachingSheets&) = delete;
+    ApproachingSheets& operator=(const ApproachingSheets&) = delete;
+};
+
 /// node_plane_quiet_until() for the sheets' root nodes, their trees fitted
 /// to step `step` and recording the steps after it as the lists do, the
 /// meshes' travel given as the lists measure it (or not at all).
 int64_t approach_quiet_until(int64_t step, double contact_distance, bool with_travel, Vec3& normal, double& gap) {
-    const MeshAnimation lower = tilted_sheet(0.0, 0.0, 0.0, 0.0);
-    const MeshAnimation upper = tilted_sheet(kApproachStart, kApproachSpeed, 0.03, 0.05);
-    const Flightplans plans_a(lower, false), plans_b(upper, false);
-    StepBoxTree tree_a(plans_a, lower.triangles, 0.0), tree_b(plans_b, upper.triangles, 0.0);
-    tree_a.index_triangles_under();
-    tree_b.index_triangles_under();
+    ApproachingSheets sheets;
+    StepBoxTree& tree_a = sheets.tree_a;
+    StepBoxTree& tree_b = sheets.tree_b;
     const int64_t steps = kApproachSamples - 1;
     tree_a.fit(static_cast<double>(step), static_cast<double>(step + 1));
     tree_b.fit(static_cast<double>(step), static_cast<double>(step + 1));
@@ -249,12 +263,9 @@ TEST(NodePlane, AKeptPairSleepsPastTheRecordedStepsNoLongerThanThePlaneHolds) {
 TEST(NodePlane, APlaneCarriedFromTheStepBeforeGetsTheSameAnswerMeasuringOnlyTheEnd) {
     // Step after step as the sinking sheet closes in: the previous step's
     // end gap stands in for this step's begin, until the plane fails.
-    const MeshAnimation lower = tilted_sheet(0.0, 0.0, 0.0, 0.0);
-    const MeshAnimation upper = tilted_sheet(kApproachStart, kApproachSpeed, 0.03, 0.05);
-    const Flightplans plans_a(lower, false), plans_b(upper, false);
-    StepBoxTree tree_a(plans_a, lower.triangles, 0.0), tree_b(plans_b, upper.triangles, 0.0);
-    tree_a.index_triangles_under();
-    tree_b.index_triangles_under();
+    ApproachingSheets sheets;
+    StepBoxTree& tree_a = sheets.tree_a;
+    StepBoxTree& tree_b = sheets.tree_b;
     Vec3 previous = Vec3::Zero();
     double previous_gap = 0.0;
     int kept = 0, failed = 0;

@@ -140,9 +140,11 @@ TEST(RegionGrouping, RowsTheMeshesDoNotHaveAreRefused) {
     EXPECT_THROW(group_regions(meshes, rows.view(), integer_times(2), 0.0, 1), std::invalid_argument);
 }
 
-TEST(RegionDepths, BoxThroughASheetAtEverySampleOfItsSpan) {
-    // A static sheet at z = 0; a box of half-size 0.5 rises through it, centre at z = -1 + t / 2.
-    const StoredMesh plane = sheet(8, -2.03, 1.97, -1.98, 2.02, {0.0}, [](double) { return 0.0; });
+/// A static 8 x 8 sheet at z = 0, a little off the origin so that no edge runs through the box's corners.
+StoredMesh flat_sheet() { return sheet(8, -2.03, 1.97, -1.98, 2.02, {0.0}, [](double) { return 0.0; }); }
+
+/// A box of half-size 0.5 rising through z = 0: its centre at z = -1 + t / 2 over times 0..4.
+StoredMesh rising_box() {
     const StoredMesh resting = box(Vec3::Zero(), Vec3(0.5, 0.5, 0.5));
     StoredMesh cube = resting;
     cube.times = {0.0, 4.0};
@@ -151,6 +153,13 @@ TEST(RegionDepths, BoxThroughASheetAtEverySampleOfItsSpan) {
         for (int v = 0; v < 8; ++v)
             cube.points.insert(cube.points.end(), {resting.points[3 * v], resting.points[3 * v + 1],
                                                    resting.points[3 * v + 2] + shift});
+    return cube;
+}
+
+TEST(RegionDepths, BoxThroughASheetAtEverySampleOfItsSpan) {
+    // A static sheet at z = 0; a box of half-size 0.5 rises through it, centre at z = -1 + t / 2.
+    const StoredMesh plane = flat_sheet();
+    const StoredMesh cube = rising_box();
     const std::vector<MeshView> meshes = {plane.view(), cube.view()};
     // Every sheet face against the box's bottom (face 0), first touching at time 1.
     Rows rows;
@@ -179,15 +188,8 @@ TEST(RegionDepths, BoxThroughASheetAtEverySampleOfItsSpan) {
 TEST(RegionDepths, AContactBetweenFramesIsMeasuredAtItsFirstAndLastSamples) {
     // Samples every quarter time code over 0..4; the flags mark whole time codes only (frames, say).
     // A static sheet at z = 0; a box of half-size 0.5 rises through it, centre at z = -1 + t / 2.
-    const StoredMesh plane = sheet(8, -2.03, 1.97, -1.98, 2.02, {0.0}, [](double) { return 0.0; });
-    const StoredMesh resting = box(Vec3::Zero(), Vec3(0.5, 0.5, 0.5));
-    StoredMesh cube = resting;
-    cube.times = {0.0, 4.0};
-    cube.points.clear();
-    for (double shift : {-1.0, 1.0})
-        for (int v = 0; v < 8; ++v)
-            cube.points.insert(cube.points.end(), {resting.points[3 * v], resting.points[3 * v + 1],
-                                                   resting.points[3 * v + 2] + shift});
+    const StoredMesh plane = flat_sheet();
+    const StoredMesh cube = rising_box();
     const std::vector<MeshView> meshes = {plane.view(), cube.view()};
     std::vector<double> times;
     std::vector<char> whole;
