@@ -128,9 +128,10 @@ def test_a_shot_that_does_not_fit_whole_is_checked_in_shorter_windows_with_the_s
         assert (tmp_path / "fitted" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
 
 
-def test_the_default_window_holds_a_gibibyte_of_samples_or_what_the_triangles_take():
-    small = ShotSize(meshes=1, vertex_samples=10_000 * 1000, triangles=20_000, animated_vertices=10_000,
-                     animated_vertex_samples=10_000 * 1000, most_samples=1000)
+def test_the_default_window_holds_window_bytes_of_samples_or_what_the_triangles_take():
+    # the small mesh's shot is longer than one window holds
+    small = ShotSize(meshes=1, vertex_samples=10_000 * 3000, triangles=20_000, animated_vertices=10_000,
+                     animated_vertex_samples=10_000 * 3000, most_samples=3000)
     large = ShotSize(meshes=1, vertex_samples=500_000 * 480, triangles=1_000_000, animated_vertices=500_000,
                      animated_vertex_samples=500_000 * 480, most_samples=480)
     for size, threads in ((small, 1), (large, 1), (large, 2)):

@@ -68,11 +68,15 @@ BYTES_PER_VERTEX_SAMPLE = {"ksl": 160, "swept": 120, "discrete": 120, "brute": 1
 #: Of BYTES_PER_VERTEX_SAMPLE, what the loader holds for the whole checked range (float64 points, 24 B,
 #: plus their share of its per-mesh arrays); the rest is the core's, held for one memory window.
 LOADED_BYTES_PER_VERTEX_SAMPLE = 32
-#: Memory of the core's points and flightplans in one memory window, unless its trees and lists take more
-#: (then as much as they do) or memory asks for less: each window is checked afresh (its front is built
-#: again and the contacts still going on where it begins are found and confirmed again), so a window as long
-#: as memory allows costs least; 1 GiB keeps the windows of a 100k-triangle shot about 60 samples long.
-WINDOW_BYTES = 2 ** 30
+#: Memory of the core's part of one memory window by the model (BYTES_PER_VERTEX_SAMPLE less what the loader
+#: holds), unless its trees and lists take more (then as much as they do) or memory asks for less: each window
+#: is checked afresh (its front is built again and the contacts still going on where it begins are found and
+#: confirmed again), so a window as long as memory allows costs least. The model covers curved motion (a
+#: flightplan breakpoint at every sample); on the 150k-triangle production shot (benchmarks/production_shot.py)
+#: raising it from 1 to 2 GiB doubled its windows to 223 samples and raised the measured peak by 280 MiB (33 B
+#: per vertex-sample of the longer window), the 480-frame peak staying at 1.12x the 240-frame one; the
+#: 10x-resampled tablecloth is then checked in one window instead of two.
+WINDOW_BYTES = 2 * 2 ** 30
 BYTES_PER_TRIANGLE = {"ksl": 2600, "swept": 450, "discrete": 450, "brute": 450}
 FIXED_BYTES = 6 * 2 ** 20
 
