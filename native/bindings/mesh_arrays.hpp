@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace usdksl {
 
@@ -28,21 +29,39 @@ struct MeshArrays {
     int32_t vertex_count() const { return static_cast<int32_t>(points.shape(1)); }
 };
 
+/// @brief Points as every binding hands them to the core: float32 in
+///        C order as they are (`is_float`; the loader's authored world-space
+///        points, read as the same doubles), anything else as C-order double.
+struct PointsArray {
+    pybind11::array array;
+    bool is_float = false;
+};
+
+inline PointsArray read_points_array(const pybind11::handle& points) {
+    namespace py = pybind11;
+    using FloatArray = py::array_t<float, py::array::c_style>;
+    using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    PointsArray out;
+    out.is_float = py::isinstance<FloatArray>(points) &&
+                   (py::reinterpret_borrow<py::array>(points).flags() & py::array::c_style);
+    out.array = out.is_float ? py::array(points.cast<FloatArray>()) : py::array(points.cast<DoubleArray>());
+    return out;
+}
+
 /// @brief The arrays of mesh `index` of a call (`item`, a 4-tuple); throws
 ///        std::invalid_argument (ValueError) naming the mesh when a shape is
 ///        wrong. `samples_required`: the mesh must have at least one sample.
 inline MeshArrays read_mesh_arrays(const pybind11::handle& item, size_t index, bool samples_required) {
     namespace py = pybind11;
     using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-    using FloatArray = py::array_t<float, py::array::c_style>;
     using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
     const py::tuple t = py::reinterpret_borrow<py::tuple>(item);
     if (t.size() != 4) throw std::invalid_argument("mesh must be (times, points, triangles, triangle_face)");
     MeshArrays mesh;
     mesh.times = t[0].cast<DoubleArray>();
-    mesh.float_points = py::isinstance<FloatArray>(t[1]) &&
-                        (py::reinterpret_borrow<py::array>(t[1]).flags() & py::array::c_style);
-    mesh.points = mesh.float_points ? py::array(t[1].cast<FloatArray>()) : py::array(t[1].cast<DoubleArray>());
+    PointsArray points = read_points_array(t[1]);
+    mesh.points = std::move(points.array);
+    mesh.float_points = points.is_float;
     mesh.triangles = t[2].cast<IntArray>();
     mesh.triangle_face = t[3].cast<IntArray>();
     const std::string where = "mesh " + std::to_string(index) + ": ";

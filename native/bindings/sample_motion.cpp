@@ -2,6 +2,8 @@
 /// @brief Binds the one-pass motion summary of a mesh's samples (longest step
 ///        per interval, box per sample) that the loader's blow-up scan reads.
 
+#include "mesh_arrays.hpp"
+
 #include "usdksl/flightplan/sample_motion.hpp"
 
 #include <pybind11/numpy.h>
@@ -16,22 +18,15 @@ using namespace usdksl;
 
 namespace {
 
-using FloatArray = py::array_t<float, py::array::c_style>;
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-/// Calls `use(data, samples, vertices)` on points [K, N, 3]: float32 as they are, anything else as double.
+/// Calls `use(data, samples, vertices)` on points [K, N, 3] as read_points_array reads them.
 template <typename Use>
 auto with_points(const py::array& points_in, Use use) {
     if (points_in.ndim() != 3 || points_in.shape(2) != 3) throw std::invalid_argument("points must have shape (K, N, 3)");
     const int64_t samples = points_in.shape(0), vertices = points_in.shape(1);
-    if (py::isinstance<FloatArray>(points_in) && (points_in.flags() & py::array::c_style)) {
-        const FloatArray points = points_in.cast<FloatArray>();
-        py::gil_scoped_release release;
-        return use(points.data(), samples, vertices);
-    }
-    const DoubleArray points = points_in.cast<DoubleArray>();
+    const PointsArray points = read_points_array(points_in);
     py::gil_scoped_release release;
-    return use(points.data(), samples, vertices);
+    if (points.is_float) return use(static_cast<const float*>(points.array.data()), samples, vertices);
+    return use(static_cast<const double*>(points.array.data()), samples, vertices);
 }
 
 py::array_t<double> longest_steps_py(const py::array& points) {

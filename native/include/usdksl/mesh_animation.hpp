@@ -46,15 +46,19 @@ struct MeshAnimation {
         return borrowed_points ? borrowed_points[i] : points[i];
     }
 
+    /// @brief Index of vertex v's x coordinate at sample k among the positions.
+    size_t sample_index(int64_t k, int32_t v) const {
+        return (static_cast<size_t>(k) * static_cast<size_t>(vertex_count) + static_cast<size_t>(v)) * 3;
+    }
+
     /// @brief Coordinate `axis` of vertex v at sample k (scene units).
     double sample_coord(int64_t k, int32_t v, int axis) const {
-        return point_value((static_cast<size_t>(k) * static_cast<size_t>(vertex_count) + static_cast<size_t>(v)) * 3 +
-                           static_cast<size_t>(axis));
+        return point_value(sample_index(k, v) + static_cast<size_t>(axis));
     }
 
     /// @brief Position of vertex v at sample k (scene units).
     Vec3 sample_point(int64_t k, int32_t v) const {
-        const size_t at = (static_cast<size_t>(k) * static_cast<size_t>(vertex_count) + static_cast<size_t>(v)) * 3;
+        const size_t at = sample_index(k, v);
         return Vec3(point_value(at), point_value(at + 1), point_value(at + 2));
     }
 };

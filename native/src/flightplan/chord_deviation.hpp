@@ -27,10 +27,13 @@ inline double deviation_from_chord(const MeshAnimation& mesh, int32_t v, int64_t
     return worst;
 }
 
+/// @brief Largest absolute coordinate of a position (scene units): the size
+///        that rounding bounds of anything computed from it scale with.
+inline double point_magnitude(const Vec3& p) { return std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}); }
+
 /// @brief Largest absolute coordinate of vertex v at sample k (scene units).
 inline double sample_magnitude(const MeshAnimation& mesh, int32_t v, int64_t k) {
-    const Vec3 p = mesh.sample_point(k, v);
-    return std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
+    return point_magnitude(mesh.sample_point(k, v));
 }
 
 /// @brief Largest deviation_from_chord() (scene units) of the samples strictly

@@ -47,7 +47,7 @@ public:
         anchor_ = anchor;
         anchor_time_ = mesh.times[anchor];
         anchor_point_ = mesh.sample_point(anchor, v);
-        anchor_magnitude_ = anchor_point_.cwiseAbs().maxCoeff();
+        anchor_magnitude_ = point_magnitude(anchor_point_);
         tolerance_ = (1.0 - CHORD_WINDOW_MARGIN) * FLIGHTPLAN_COLLINEAR_TOLERANCE * anchor_magnitude_;
         for (int axis = 0; axis < 3; ++axis) {
             low_[axis] = -std::numeric_limits<double>::infinity();

@@ -103,19 +103,20 @@ void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
     for (int32_t v = run.first; v < run.last; ++v) {
         const int64_t count = run.count[static_cast<size_t>(v - run.first)];
         storage.offsets[static_cast<size_t>(v)] = key;
-        double magnitude = 0.0;
         if (!run.merge_collinear) {  // every sample, read in place
-            for (int64_t k = 0; k < count; ++k) magnitude = std::max(magnitude, sample_magnitude(mesh, v, k));
+            storage.vertex_magnitude[static_cast<size_t>(v)] = run_magnitude(mesh, v, 0, count - 1);
             key += count;
+            continue;
         }
-        for (int64_t i = 0; run.merge_collinear && i < count; ++i, ++key) {
+        double magnitude = 0.0;
+        for (int64_t i = 0; i < count; ++i, ++key) {
             const int64_t k = run.kept_samples[kept_index++];
             const Vec3 p = mesh.sample_point(k, v);
             key_times[key] = mesh.times[static_cast<size_t>(k)];
             key_points[3 * key] = p[0];
             key_points[3 * key + 1] = p[1];
             key_points[3 * key + 2] = p[2];
-            magnitude = std::max(magnitude, sample_magnitude(mesh, v, k));
+            magnitude = std::max(magnitude, point_magnitude(p));
         }
         storage.vertex_magnitude[static_cast<size_t>(v)] = magnitude;
     }

@@ -66,6 +66,11 @@ public:
     double key_coord(int32_t v, int64_t k, int axis) const {
         return raw_ ? raw_->sample_coord(k - offsets_[v], v, axis) : key_points_[3 * k + axis];
     }
+    /// @brief Position of breakpoint k of vertex v (scene units).
+    Vec3 key_point(int32_t v, int64_t k) const {
+        return raw_ ? raw_->sample_point(k - offsets_[v], v)
+                    : Vec3(key_points_[3 * k], key_points_[3 * k + 1], key_points_[3 * k + 2]);
+    }
 
     /// @brief Breakpoint index of v's segment containing time t: the last k with
     ///        key_time(k) <= t, or key_begin(v) when t is before every breakpoint.
@@ -95,18 +100,11 @@ public:
     /// @brief Position of vertex v at time code t, given the segment k that
     ///        contains t (as segment_of(v, t) returns it); bit-identical to position().
     Vec3 position_in_segment(int32_t v, int64_t k, double t) const {
-        if (raw_) {
-            const double t0 = key_time(v, k);
-            const Vec3 p0 = raw_->sample_point(k - offsets_[v], v);
-            if (k + 1 >= offsets_[v + 1] || t <= t0) return p0;
-            const Vec3 p1 = raw_->sample_point(k + 1 - offsets_[v], v);
-            const double w = (t - t0) / (key_time(v, k + 1) - t0);
-            return Vec3(p0[0] + w * (p1[0] - p0[0]), p0[1] + w * (p1[1] - p0[1]), p0[2] + w * (p1[2] - p0[2]));
-        }
-        const double* p0 = &key_points_[3 * k];
-        if (k + 1 >= offsets_[v + 1] || t <= key_times_[k]) return Vec3(p0[0], p0[1], p0[2]);
-        const double* p1 = p0 + 3;
-        const double w = (t - key_times_[k]) / (key_times_[k + 1] - key_times_[k]);
+        const double t0 = key_time(v, k);
+        const Vec3 p0 = key_point(v, k);
+        if (k + 1 >= offsets_[v + 1] || t <= t0) return p0;
+        const Vec3 p1 = key_point(v, k + 1);
+        const double w = (t - t0) / (key_time(v, k + 1) - t0);
         // Same arithmetic as coord_in_segment(), so positions and single coordinates agree bit for bit.
         return Vec3(p0[0] + w * (p1[0] - p0[0]), p0[1] + w * (p1[1] - p0[1]), p0[2] + w * (p1[2] - p0[2]));
     }
