@@ -358,6 +358,28 @@ def test_a_stack_of_samples_goes_to_world_space_with_the_same_numbers_as_one_by_
     assert stacked.tobytes() == one_by_one.tobytes()
 
 
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("projective", [False, True])
+def test_one_local_under_a_stack_of_matrices_goes_to_world_space_with_the_same_numbers_as_one_by_one(dtype,
+                                                                                                projective):
+    """A rigid mesh (points held, transform moving) is moved to world space once against every sample's matrix
+    (usdksl.reading.meshes): every bit equals the sample-by-sample product, projective samples among them."""
+    from usdksl.reading.meshes import _to_world
+
+    rng = np.random.default_rng(5)
+    local = (rng.normal(size=(50, 3)) * 10.0 ** rng.integers(-3, 4, size=(50, 1))).astype(dtype)
+    matrices = rng.normal(size=(7, 4, 4))
+    matrices[:, :, 3] = (0.0, 0.0, 0.0, 1.0)
+    if projective:
+        matrices[[1, 4], :, 3] = rng.normal(size=(2, 4))
+    stacked = np.empty((7,) + local.shape, np.float64)
+    _to_world(local, matrices, stacked)
+    one_by_one = np.empty(stacked.shape, np.float64)
+    for k in range(matrices.shape[0]):
+        _to_world(local, matrices[k], one_by_one[k])
+    assert stacked.tobytes() == one_by_one.tobytes()
+
+
 def test_transforms_held_by_single_samples_move_every_sample_as_pxr_says(build):
     """xformOps with one time sample each (a cache's one-sample scale, as Newton writes it) hold their value
     at every time: the loader computes that transform once, and every sample's world points are still

@@ -322,8 +322,9 @@ class _MatrixCache:
 
 def _to_world(local: np.ndarray, matrix: np.ndarray, out: np.ndarray) -> None:
     """out = [local, 1] @ matrix (USD row vectors), projective matrices included. ``local`` is [N, 3] or a
-    stack [K, N, 3] of samples, ``matrix`` [4, 4], or a stack [K, 4, 4] with one per sample of a stack (numpy
-    multiplies a stack slice by slice: the same numbers as one by one)."""
+    stack [K, N, 3] of samples, ``matrix`` [4, 4], or a stack [K, 4, 4] with one per sample of a stack or
+    of ``out`` (numpy multiplies a stack slice by slice, and one [N, 3] local against every matrix of a stack:
+    the same numbers as one by one)."""
     if local.dtype != out.dtype:
         # numpy multiplies mixed precisions element by element, several times slower than after one cast
         # (the same doubles: a float widens exactly)
@@ -337,7 +338,7 @@ def _to_world(local: np.ndarray, matrix: np.ndarray, out: np.ndarray) -> None:
                 out /= w[..., None]
             return
         for k in np.flatnonzero((matrix[:, :, 3] != (0.0, 0.0, 0.0, 1.0)).any(axis=1)):
-            w = local[k] @ matrix[k, :3, 3] + matrix[k, 3, 3]
+            w = (local if local.ndim == 2 else local[k]) @ matrix[k, :3, 3] + matrix[k, 3, 3]
             out[k] /= w[..., None]
 
 
@@ -455,16 +456,20 @@ def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.
     # points that no transform moves are read straight into their place: no block, no product
     as_authored = (fixed_matrix is not None and out.dtype == first.dtype
                    and np.array_equal(fixed_matrix, IDENTITY_MATRIX))
-    if not as_authored:
+    if not animated:   # one local, moved by each sample's matrix: no block of copies of it
+        block = None
+        first_world = first.astype(out.dtype)   # cast once, as _to_world casts each block
+    elif not as_authored:
         block = np.empty((min(samples_per_block, times.shape[0]),) + first.shape, dtype=first.dtype)
     local_constant = True
     for start in range(0, times.shape[0], samples_per_block):
         if as_authored:
             block = out[start:start + samples_per_block]
-        read, failure = 0, None
-        for k in range(start, min(start + samples_per_block, times.shape[0])):
+        stop = min(start + samples_per_block, times.shape[0])
+        read, failure = (0, None) if animated else (stop - start, None)
+        for k in range(start, stop if animated else start):
             try:
-                local = read_local_points(file, path, attribute, float(times[k]), topology) if animated else first
+                local = read_local_points(file, path, attribute, float(times[k]), topology)
             except UsdkslInputError as error:   # raised once the samples before it are checked
                 failure = error
                 break
@@ -484,7 +489,9 @@ def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.
             if bad_matrix == 0:
                 raise UsdkslInputError("local-to-world transform is not finite", file=file, prim=path,
                                        time=float(times[start]))
-            if not as_authored:
+            if not animated:
+                _to_world(first_world, matrix, world)
+            elif not as_authored:
                 _to_world(block[:read], matrix, world)
             finite = np.isfinite(world).all(axis=(1, 2))
             bad = read if finite.all() else int(np.argmin(finite))
@@ -493,7 +500,9 @@ def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.
             if bad_matrix < read:
                 raise UsdkslInputError("local-to-world transform is not finite", file=file, prim=path,
                                        time=float(times[start + bad_matrix]))
-            local_constant = local_constant and bool((block[:read] == first).all())
+            # sample by sample, so that deforming points stop comparing at their first change
+            local_constant = local_constant and (not animated or all(
+                np.array_equal(block[i], first) for i in range(read)))
         if failure is not None:
             raise failure
     return local_constant
