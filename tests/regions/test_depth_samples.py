@@ -1,7 +1,9 @@
 """Which samples a region's depth is measured at (docs/contracts.md, Regions): whole frames of the stage's clock,
-a sub-frame sample only where the frame before it is not sampled, and always a region's first and last samples."""
+a sub-frame sample only where the frame before it is not sampled, and always a region's first and last samples;
+regions are grouped at the same samples, so a region ends on one of them."""
 
 import numpy as np
+import pytest
 
 from regions.scenes import box, contacts, sheet
 from usdksl.clock import StageClock
@@ -57,31 +59,42 @@ def _box_through_a_sheet(times):
     return [flat, box(0.5, lambda t: (0, 0, -1.1 + 0.25 * t), times)]
 
 
-def test_a_contact_between_frames_is_measured_at_its_first_and_last_samples():
+def test_a_contact_that_begins_between_frames_is_measured_from_its_first_sample_and_ends_on_a_frame():
     times = np.arange(0.0, 9.0, 0.25)          # four samples a frame (frames = time codes)
     meshes = _box_through_a_sheet(times)
     table = contacts(meshes, [(0, 1)])
-    grouping = group_regions(meshes, table, times, 0.0)
-    assert grouping.region_count == 1
     first = int(np.searchsorted(times, table.time.min()))        # first sample at or after the first contact
-    last = int(grouping.row_span[:, 1].max())
-    assert times[first] == 2.5 and times[last] % 1.0 != 0.0, "the region starts and ends between frames"
-    whole = [t for t in times[first + 1:last].tolist() if t % 1.0 == 0.0]
-    closed = closed_meshes(meshes)
+    assert times[first] == 2.5, "the region starts between frames"
 
     regions = find_regions(meshes, table, times)
-    assert regions.samples.time.tolist() == [times[first]] + whole + [times[last]]
-    assert regions.samples.time.tolist() == [2.5, 3.0, 4.0, 5.0, 6.0, times[last]]
-    # the measured rows are the rows of a measurement at every sample, at those times
-    every = region_depths(meshes, table, grouping, times, closed)
-    assert every.time.tolist() == times[first:last + 1].tolist()
-    chosen = np.searchsorted(every.time, regions.samples.time)
-    assert regions.samples.penetration.tobytes() == every.penetration[chosen].tobytes()
-    assert regions.samples.intersection_length.tobytes() == every.intersection_length[chosen].tobytes()
+    assert regions.count == 1
+    # grouped on frames: the box's bottom face first touches the sheet as it leaves it at 6.4, a contact over
+    # by frame 7, so the region ends at that contact's own time and its span covers the step to frame 7; its
+    # first sample is the one after its first contact
+    assert regions.last_time[0] == pytest.approx(6.4, abs=1e-9)
+    assert regions.samples.time.tolist() == [2.5, 3.0, 4.0, 5.0, 6.0, 7.0]
+    # the measured rows are the rows of a measurement at every sample (grouped at every sample, the span
+    # ends at 6.5, the last sample in contact), at those times
+    grouping = group_regions(meshes, table, times, 0.0)
+    assert times[int(grouping.row_span[:, 1].max())] == 6.5
+    every = region_depths(meshes, table, grouping, times, closed_meshes(meshes))
+    assert every.time.tolist() == times[first:int(grouping.row_span[:, 1].max()) + 1].tolist()
+    shared = regions.samples.time < 6.5
+    chosen = np.searchsorted(every.time, regions.samples.time[shared])
+    assert regions.samples.penetration[shared].tobytes() == every.penetration[chosen].tobytes()
+    assert regions.samples.intersection_length[shared].tobytes() == every.intersection_length[chosen].tobytes()
     assert regions.samples.penetration[0] > 0, "through the sheet by its first sample"
+    assert regions.samples.penetration[-1] == 0, "out of the sheet by frame 7"
     # the largest of the measured samples: the sheet halves the box at time 4.4, between frames 4 and 5
     assert regions.max_depth_time.tolist() == [4.0]
     assert regions.max_depth[0] == regions.samples.penetration.max() < every.penetration.max()
+
+    # the same motion sampled once a frame: the same region, ending at the same frame
+    frames = np.arange(0.0, 9.0)
+    coarse_meshes = _box_through_a_sheet(frames)
+    coarse = find_regions(coarse_meshes, contacts(coarse_meshes, [(0, 1)]), frames)
+    assert coarse.last_time[0] == pytest.approx(regions.last_time[0], abs=1e-5)
+    assert coarse.max_depth.tobytes() == regions.max_depth.tobytes()
 
 
 def test_region_depths_takes_the_flags_and_measures_every_sample_without_them():

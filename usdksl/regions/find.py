@@ -17,18 +17,18 @@ from ..reading.positions import vertex_points_at
 from ..unmasked import distinct_sorted
 from .closed import closed_meshes
 from .depth import depth_sample_flags, region_depths
-from .grouping import group_regions
+from .grouping import Grouping, group_regions
 from .table import INTERSECTION_LENGTH, PENETRATION, DepthSamples, RegionTable
 
 
 def find_regions(meshes: Sequence, table: ContactTable, sample_times: np.ndarray, thickness: float = 0.0,
                  time_range: Optional[Tuple[float, float]] = None, frames_per_time_code: float = 1.0) -> RegionTable:
-    """The regions of ``table`` (the contacts of ``meshes``, one piece of constant topology), grouped at
-    ``sample_times`` (the piece's samples; only those inside ``time_range`` are used) and measured at each
-    region's first and last samples and the samples between on whole frames
-    (:func:`usdksl.regions.depth.depth_sample_flags`; ``frames_per_time_code`` from the stage's clock,
-    :attr:`usdksl.clock.StageClock.frames_per_time_code`). With last contacts in ``table`` a region's last_time
-    is the latest continuous last contact of its face pairs."""
+    """The regions of ``table`` (the contacts of ``meshes``, one piece of constant topology), grouped at the
+    samples on whole frames among ``sample_times`` (the piece's samples; only those inside ``time_range`` are
+    used; :func:`usdksl.regions.depth.depth_sample_flags`, ``frames_per_time_code`` from the stage's clock,
+    :attr:`usdksl.clock.StageClock.frames_per_time_code`) and the first and last of them, and measured at each
+    region's first and last samples and the samples between on whole frames. With last contacts in ``table``
+    a region's last_time is the latest continuous last contact of its face pairs."""
     if table.count == 0:
         return RegionTable.empty(table.paths)
     times = np.asarray(sample_times, dtype=np.float64)
@@ -40,11 +40,24 @@ def find_regions(meshes: Sequence, table: ContactTable, sample_times: np.ndarray
     if times.size == 0:   # a piece of one instant: its contacts are all initial, at the range start
         times = distinct_sorted(table.time)
         measured = np.ones(times.size, bool)
-    grouping = group_regions(meshes, table, times, thickness)
+    grouping = _group_at(meshes, table, times, measured, thickness)
     closed = closed_meshes(meshes)
     samples = region_depths(meshes, table, grouping, times, closed, measured=measured)
     return fold(meshes, table, grouping.row_region, grouping.region_count, grouping.row_last_sampled, samples,
                 closed)
+
+
+def _group_at(meshes: Sequence, table: ContactTable, times: np.ndarray, measured: np.ndarray,
+              thickness: float) -> Grouping:
+    """The grouping of ``table`` at the measured samples of ``times`` and its first and last (where the
+    checked span begins and ends), its spans indexing ``times``: a sub-frame sample decides no region's
+    extent, as it decides no depth."""
+    grouped = measured.copy()
+    grouped[[0, -1]] = True
+    kept = np.flatnonzero(grouped)
+    grouping = group_regions(meshes, table, times[kept], thickness)
+    grouping.row_span = kept[grouping.row_span].astype(np.int32)
+    return grouping
 
 
 def fold(meshes: Sequence, table: ContactTable, row_region: np.ndarray, region_count: int,
