@@ -61,3 +61,17 @@ def test_two_runs_write_byte_identical_layers(tmp_path):
     first = (tmp_path / "a" / "shot.usdksl.usda").read_bytes()
     assert first == (tmp_path / "b" / "shot.usdksl.usda").read_bytes()
     assert b"shotSha256" in first
+
+
+def test_the_hash_read_beside_the_check_is_the_file_hash_and_a_missing_file_fails_when_asked(tmp_path):
+    """A check hashes its shot on a thread of its own while it loads it (usdksl.reports.shot_hash)."""
+    import pytest
+
+    from usdksl.reports import shot_hash
+
+    big = tmp_path / "blocks.bin"
+    big.write_bytes(bytes(range(256)) * (3 * shot_hash._HASH_BLOCK_BYTES // 256 + 7))   # several blocks and a rest
+    assert shot_hash.file_sha256_in_background(big).result() == hashlib.sha256(big.read_bytes()).hexdigest()
+    missing = shot_hash.file_sha256_in_background(tmp_path / "missing.usda")
+    with pytest.raises(FileNotFoundError):
+        missing.result()

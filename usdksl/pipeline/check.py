@@ -10,6 +10,7 @@ and Dask workers call the same function; a result is plain data (numpy arrays, s
 from __future__ import annotations
 
 import time
+from concurrent.futures import Future
 from pathlib import Path
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
@@ -30,7 +31,8 @@ from ..regions.find import concatenate_regions, find_regions
 from ..reports.formats import mesh_pair_lines, region_lines
 from ..warning_kinds import BASELINE_MISMATCH, EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .coverage import shot_coverage
-from .files import OutputTargets, concatenate_pieces, render_files
+from ..reports.shot_hash import file_sha256_in_background
+from .files import OutputTargets, concatenate_pieces, render_files, root_layer_file
 from .loading import PlannedShot, checked_span, load_segments, report_blowups, require_samples_in_range
 from .memory_budget import format_bytes, memory_limit, plan_memory, sources_size
 from .messages import ERROR, INFO, PLAN, RESULT, WARNING, Message, message_collector
@@ -76,6 +78,8 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     exported text (``shot`` is then only a name; see render_files).
     """
     started = time.monotonic()
+    # read beside the loading and the check, not after them (the override layer names the shot by it)
+    shot_hash = file_sha256_in_background(root_layer_file(shot)) if root_layer_text is None else None
     name = name or shot
     targets = targets or OutputTargets(out_dir=Path(shot).resolve().parent)
     messages: List[Message] = []
@@ -103,7 +107,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             if shown is not None and hasattr(shown, "close"):
                 shown.close()
     return conclude(shot, name, options, targets, planned, tables, span, counters, messages, say, baseline,
-                    started, root_layer_text)
+                    started, root_layer_text, shot_hash)
 
 
 def _shown(bar) -> bool:
@@ -181,9 +185,10 @@ def load_and_plan(shot: str, options: CheckOptions, name: str, say: Callable[...
 def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets, planned: PlannedShot,
              tables: Sequence[ContactTable], span: TimeRange, counters: Dict[str, int], messages: List[Message],
              say: Callable[[str, str], None], baseline: Optional[AnyBaseline], started: float,
-             root_layer_text: Optional[str] = None) -> CheckResult:
+             root_layer_text: Optional[str] = None, shot_hash: Optional[Future] = None) -> CheckResult:
     """The result of a check from the contacts of each segment (``tables``): held against ``baseline``,
-    cross-checked when asked, every report rendered. Says what a finished check says."""
+    cross-checked when asked, every report rendered. Says what a finished check says. ``shot_hash``: the shot's
+    hash being computed (:func:`usdksl.reports.shot_hash.file_sha256_in_background`; None: computed here)."""
     plan = planned.plan
     table, kept = concatenate_pieces(planned.segments, tables)
     clock = StageClock.from_metadata(planned.segments[0][1].metadata)
@@ -214,7 +219,7 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
                 if message.level in (WARNING, ERROR) or message.kind is not None]
     files, stdout = render_files(shot, name, options, targets, planned.segments, plan, tables, table, clock,
                                  exit_code, span, crosscheck_text, comparison, planned.coverage, findings, regions,
-                                 root_layer_text)
+                                 root_layer_text, None if shot_hash is None else shot_hash.result())
     pictures = {}
     if targets.report_path is not None:
         from .report import region_pictures_of   # PyVista and VTK: only for a report

@@ -112,7 +112,8 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
                  span: TimeRange, crosscheck_text: Optional[str] = None,
                  comparison: Optional[BaselineComparison] = None, coverage: Optional[Coverage] = None,
                  findings: Optional[list] = None, regions: Optional[RegionTable] = None,
-                 root_layer_text: Optional[str] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
+                 root_layer_text: Optional[str] = None,
+                 shot_sha256: Optional[str] = None) -> Tuple[Dict[Path, FileData], Optional[str]]:
     """({target: text or bytes} of every file of a check, None for a file to remove; the JSON text for
     stdout or None), in write order.
 
@@ -121,7 +122,8 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
     the shot's (its stage metadata). A run over a time range (a farm chunk) also writes its manifest
     (usdksl.reports.manifest). ``root_layer_text``: the exported text of a root layer that lives in memory
     only (usdksl.pipeline.stage): the shot hash is that text's, and there is no override layer, which would
-    have no file to sublayer."""
+    have no file to sublayer. ``shot_sha256``: the shot's hash when it is known already (computed here when
+    None)."""
     files: Dict[Path, FileData] = {}
     known = None if comparison is None else comparison.known
     files[targets.contacts_csv(shot)] = contacts_csv(table, clock, known,
@@ -133,7 +135,8 @@ def render_files(shot: str, name: str, options: CheckOptions, targets: OutputTar
         files[targets.crosscheck_csv(shot)] = crosscheck_text
     checked_meshes = sorted(set(plan.pairs.reshape(-1).tolist()))
     # one read of the root layer per check: the override layer and a farm chunk's manifest both name it
-    shot_sha256 = file_sha256(root_layer_file(shot)) if root_layer_text is None else text_sha256(root_layer_text)
+    if shot_sha256 is None:
+        shot_sha256 = file_sha256(root_layer_file(shot)) if root_layer_text is None else text_sha256(root_layer_text)
     if root_layer_text is None:
         layer = override_layer(segments[0][1], checked_meshes, table, targets.override_layer(shot),
                                segments=[(r, seg, t) for (r, seg), t in zip(segments, tables)] if len(segments) > 1
