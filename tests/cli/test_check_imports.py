@@ -85,3 +85,31 @@ def test_a_check_keeps_numpy_blas_to_one_thread_unless_the_user_says_otherwise(t
     assert _blas_threads_of_a_check(two_quads_shot, tmp_path / "default", environment) == "'1'"
     environment["OPENBLAS_NUM_THREADS"] = "3"
     assert _blas_threads_of_a_check(two_quads_shot, tmp_path / "user", environment) == "'3'"
+
+
+HUGE_PAGES_AT_EXIT = """
+import atexit, sys
+def report():
+    import numpy
+    core = getattr(numpy, "_core", None) or numpy.core
+    sys.__stdout__.write(repr(core.multiarray._get_madvise_hugepage()) + "\\n")
+atexit.register(report)
+sys.argv = ["usdksl"] + sys.argv[1:]
+from usdksl.cli.entry import main
+main()
+"""
+
+
+def test_a_check_keeps_numpy_from_asking_for_huge_pages_unless_the_user_says_otherwise(two_quads_shot, tmp_path):
+    """numpy's huge-page advice on large arrays stalls the loader's copy of the points where the kernel compacts
+    memory for it (cli/entry.py); a user's NUMPY_MADVISE_HUGEPAGE wins."""
+    def numpy_asks_for_huge_pages(environment, out):
+        completed = subprocess.run([sys.executable, "-P", "-c", HUGE_PAGES_AT_EXIT, "check", str(two_quads_shot),
+                                    "--out", str(out)], capture_output=True, text=True, env=environment)
+        assert completed.returncode == 1, completed.stderr
+        return completed.stdout.strip().splitlines()[-1]
+
+    environment = {k: v for k, v in os.environ.items() if k != "NUMPY_MADVISE_HUGEPAGE"}
+    assert numpy_asks_for_huge_pages(environment, tmp_path / "default") == "False"
+    environment["NUMPY_MADVISE_HUGEPAGE"] = "1"
+    assert numpy_asks_for_huge_pages(environment, tmp_path / "user") == "True"
