@@ -3,6 +3,8 @@
 /// @brief The breakpoints of one vertex: its samples, less those it passes
 ///        through on a straight line at constant speed.
 
+#include "chord_velocity_window.hpp"
+
 #include "usdksl/mesh_animation.hpp"
 
 #include <cstdint>
@@ -25,5 +27,48 @@ namespace usdksl {
 ///         sample from v's merged flightplan, computed for the runs kept.
 double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
                                std::vector<int64_t>& kept);
+
+/// @brief merge_collinear_samples() of one vertex as a walk that goes a
+///        sample at a time, so that the walks of several vertices can take
+///        turns on one thread: a walk along one vertex waits on each step's
+///        divisions and on loading the next sample, a whole sample of the
+///        mesh further on, and the other walks' independent work fills that
+///        time. Each walk does exactly what merge_collinear_samples() does.
+class CollinearMergeWalk {
+public:
+    /// @brief Begins vertex v's walk, filling `kept` (which must outlive the walk).
+    void start(const MeshAnimation& mesh, int32_t v, const int64_t* popularity, std::vector<int64_t>& kept);
+    /// @brief Takes the walk past its next sample; false once it has ended,
+    ///        when `kept` and deviation() are final (then it does nothing).
+    bool advance();
+    /// @brief As merge_collinear_samples() returns (scene units), once advance() returned false.
+    double deviation() const { return deviation_; }
+
+private:
+    void finish();
+
+    const MeshAnimation* mesh_ = nullptr;
+    int32_t v_ = 0;
+    const int64_t* popularity_ = nullptr;
+    std::vector<int64_t>* kept_ = nullptr;
+    int64_t sample_count_ = 0;
+    int64_t k_ = 0;  // the sample the next advance() looks at
+    bool ended_ = true;
+    double deviation_ = 0.0;      // scene units
+    double run_magnitude_ = 0.0;  // of the samples since the last kept one (scene units)
+    double magnitude_k_ = 0.0;    // sample_magnitude() of sample k_ (scene units)
+    ChordVelocityWindow window_;
+};
+
+/// @brief Walks (vertices) that take turns on one thread in
+///        merge_collinear_samples_of(): enough to cover a step's latency.
+constexpr int32_t COLLINEAR_MERGE_LANES = 8;
+
+/// @brief merge_collinear_samples(mesh, v, nullptr, kept[i]) for v = first + i,
+///        i < count <= COLLINEAR_MERGE_LANES, the walks taking turns; returns
+///        each deviation in `deviation`.
+void merge_collinear_samples_of(const MeshAnimation& mesh, int32_t first, int32_t count,
+                                std::vector<int64_t> (&kept)[COLLINEAR_MERGE_LANES],
+                                double (&deviation)[COLLINEAR_MERGE_LANES]);
 
 } // namespace usdksl

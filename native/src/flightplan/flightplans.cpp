@@ -30,6 +30,8 @@ struct Flightplans::VertexRun {
     std::vector<int32_t> kept_samples;
     std::vector<int64_t> count;  // breakpoints per vertex
     std::vector<double> deviation;  // merging: per vertex, of its dropped samples from its flightplan (scene units)
+    /// Without merging: per vertex, the largest absolute coordinate over its samples (scene units).
+    std::vector<double> magnitude;
     /// Merging, between the passes: how many of the run's vertices keep each sample of the mesh.
     std::vector<int64_t> kept_per_sample;
     double merge_deviation = 0.0;
@@ -44,27 +46,46 @@ void Flightplans::choose_breakpoints(VertexRun& run) {
         run.deviation.reserve(static_cast<size_t>(run.last - run.first));
         run.kept_per_sample.assign(static_cast<size_t>(sample_count), 0);
     }
-    std::vector<int64_t> kept;
-    kept.reserve(static_cast<size_t>(sample_count));
-    for (int32_t v = run.first; v < run.last; ++v) {
+    if (!run.merge_collinear) {  // every sample a breakpoint: the samples are read in memory order
+        run.magnitude.assign(static_cast<size_t>(run.last - run.first), 0.0);
         for (int64_t k = 0; k < sample_count; ++k) {
-            const Vec3 p = mesh.sample_point(k, v);
-            if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-                throw std::invalid_argument("flightplans: non-finite point coordinate");
+            for (int32_t v = run.first; v < run.last; ++v) {
+                const Vec3 p = mesh.sample_point(k, v);
+                if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+                    throw std::invalid_argument("flightplans: non-finite point coordinate");
+                }
+                double& magnitude = run.magnitude[static_cast<size_t>(v - run.first)];
+                magnitude = std::max(magnitude, point_magnitude(p));
             }
         }
-        if (!run.merge_collinear) {
-            run.count.push_back(sample_count);
-            continue;
+        run.count.assign(static_cast<size_t>(run.last - run.first), sample_count);
+        return;
+    }
+    std::vector<int64_t> kept[COLLINEAR_MERGE_LANES];
+    double deviation[COLLINEAR_MERGE_LANES];
+    for (std::vector<int64_t>& lane : kept) lane.reserve(static_cast<size_t>(sample_count));
+    for (int32_t first = run.first; first < run.last; first += COLLINEAR_MERGE_LANES) {
+        const int32_t count = std::min(COLLINEAR_MERGE_LANES, run.last - first);
+        // Each vertex's samples, a whole sample of the mesh apart: this walk
+        // also brings them into the cache for the merge's walks.
+        for (int32_t v = first; v < first + count; ++v) {
+            for (int64_t k = 0; k < sample_count; ++k) {
+                const Vec3 p = mesh.sample_point(k, v);
+                if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+                    throw std::invalid_argument("flightplans: non-finite point coordinate");
+                }
+            }
         }
-        const double deviation = merge_collinear_samples(mesh, v, nullptr, kept);
-        run.deviation.push_back(deviation);
-        run.merge_deviation = std::max(run.merge_deviation, deviation);
-        for (int64_t k : kept) {
-            run.kept_samples.push_back(static_cast<int32_t>(k));
-            ++run.kept_per_sample[static_cast<size_t>(k)];
+        merge_collinear_samples_of(mesh, first, count, kept, deviation);
+        for (int32_t i = 0; i < count; ++i) {
+            run.deviation.push_back(deviation[i]);
+            run.merge_deviation = std::max(run.merge_deviation, deviation[i]);
+            for (int64_t k : kept[i]) {
+                run.kept_samples.push_back(static_cast<int32_t>(k));
+                ++run.kept_per_sample[static_cast<size_t>(k)];
+            }
+            run.count.push_back(static_cast<int64_t>(kept[i].size()));
         }
-        run.count.push_back(static_cast<int64_t>(kept.size()));
     }
 }
 
@@ -104,7 +125,7 @@ void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
         const int64_t count = run.count[static_cast<size_t>(v - run.first)];
         storage.offsets[static_cast<size_t>(v)] = key;
         if (!run.merge_collinear) {  // every sample, read in place
-            storage.vertex_magnitude[static_cast<size_t>(v)] = run_magnitude(mesh, v, 0, count - 1);
+            storage.vertex_magnitude[static_cast<size_t>(v)] = run.magnitude[static_cast<size_t>(v - run.first)];
             key += count;
             continue;
         }

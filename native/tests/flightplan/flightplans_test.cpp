@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 using usdksl::Flightplans;
 using usdksl::MeshAnimation;
@@ -44,6 +46,34 @@ TEST(Flightplans, RawPlansReproduceEverySample) {
     for (int32_t v = 0; v < mesh.vertex_count; ++v) {
         EXPECT_EQ(raw.key_end(v) - raw.key_begin(v), static_cast<int64_t>(mesh.times.size()));
         EXPECT_EQ(worst_deviation(raw, mesh, v), 0.0);
+    }
+}
+
+TEST(Flightplans, RawPlansMeasureEachVertexOverEverySampleOnAnyThreadCount) {
+    MeshAnimation mesh = random_walk(30, 25, 11, 1e-3);
+    mesh.points[(17 * 30 + 4) * 3 + 1] = -250.0;  // vertex 4 far away at one sample
+    for (int32_t threads : {1, 2, 3}) {
+        const Flightplans raw(mesh, false, threads);
+        for (int32_t v = 0; v < mesh.vertex_count; ++v) {
+            double largest = 0.0;
+            for (size_t k = 0; k < mesh.times.size(); ++k) {
+                for (int axis = 0; axis < 3; ++axis) {
+                    largest = std::max(largest, std::abs(mesh.points[(k * 30 + static_cast<size_t>(v)) * 3 + axis]));
+                }
+            }
+            EXPECT_EQ(raw.vertex_magnitude(v), largest) << "vertex " << v << ", threads " << threads;
+        }
+        EXPECT_EQ(raw.max_abs_coordinate(), 250.0);
+    }
+}
+
+TEST(Flightplans, ANonFiniteCoordinateIsRefusedMergedOrRaw) {
+    for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+        MeshAnimation mesh = random_walk(30, 25, 13, 0.0);
+        mesh.points[(24 * 30 + 29) * 3 + 2] = bad;  // the last vertex at the last sample
+        for (bool merge : {false, true}) {
+            EXPECT_THROW(Flightplans(mesh, merge, 2), std::invalid_argument) << "merge " << merge;
+        }
     }
 }
 
