@@ -34,6 +34,17 @@ std::vector<int64_t> WindowCuts::breakpoints_at(int64_t first, int64_t last) con
     return count;
 }
 
+std::pair<int64_t, int64_t> WindowCuts::keeping_flightplan_steps(int64_t first, int64_t last, int64_t steps) const {
+    const std::vector<int64_t> breaks = breakpoints_at(first, last);
+    const auto breaks_at = [&](int64_t i) { return i == last || breaks[static_cast<size_t>(i - first)] > 0; };
+    int64_t lo = first, seen = 0;
+    while (lo < last && seen < steps) seen += breaks_at(++lo) ? 1 : 0;
+    int64_t hi = last;
+    seen = 0;
+    while (hi > first && seen < steps) seen += breaks_at(hi--) ? 1 : 0;
+    return {lo, hi};
+}
+
 int64_t WindowCuts::index_at_or_after(double t) const {
     return std::lower_bound(times_.begin(), times_.end(), t) - times_.begin();
 }

@@ -25,10 +25,13 @@ struct TimeWindow {
 ///        an 11-sample shot split over 2 threads took 1.9x the CPU of one.
 constexpr int64_t MIN_SAMPLE_STEPS_PER_WINDOW = 8;
 
-/// @brief Fewest sample steps either part of a running window keeps when a
-///        thread that came free takes its later half: fewer than a planned
-///        window, since the thread would idle otherwise, and the last cuts
-///        decide how long the other thread runs on alone.
+/// @brief Fewest sample steps, and flightplan steps, either part of a
+///        running window keeps when a thread that came free takes its later
+///        half: fewer than a planned window, since the thread would idle
+///        otherwise, and the last cuts decide how long the other thread runs
+///        on alone. On the Newton tablecloth sampled ten times denser, counted
+///        in sample steps only, a check made seven windows where the original
+///        made five, each with its own set-up.
 constexpr int64_t MIN_SAMPLE_STEPS_PER_CUT = 4;
 
 /// @brief Where a checked range may be cut into windows: its sample times,
@@ -50,6 +53,15 @@ public:
     ///        by two windows), the nearest to `ideal` among equals; -1 when
     ///        that range is empty.
     int64_t best_cut(int64_t ideal, int64_t reach, int64_t lo, int64_t hi) const;
+    /// @brief Indices [lo, hi] between `first` and `last` (indices of
+    ///        times(), first < last) at which a cut leaves at least `steps`
+    ///        flightplan steps on either side: the part before a cut at i
+    ///        counts the times in (first, i] where some flightplan breaks, the
+    ///        part after it those in (i, last), and `last`. A shot sampled ten
+    ///        times denser along the same motion breaks where the original is
+    ///        sampled, so its windows are cut as the original's are. lo > hi
+    ///        when no index does.
+    std::pair<int64_t, int64_t> keeping_flightplan_steps(int64_t first, int64_t last, int64_t steps) const;
 
 private:
     /// Per time of times_[first..last]: flightplan breakpoints that fall on

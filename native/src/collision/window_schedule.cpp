@@ -34,9 +34,12 @@ ScheduledWindow* WindowSchedule::cut_running_window() {
         }
     }
     if (!victim || to - from < 2 * MIN_SAMPLE_STEPS_PER_CUT) return nullptr;
-    // Half the steps ahead each; both parts keep the minimum span.
-    const int64_t cut = cuts_.best_cut(from + (to - from) / 2, (to - from) / 4, from + MIN_SAMPLE_STEPS_PER_CUT,
-                                       to - MIN_SAMPLE_STEPS_PER_CUT);
+    // Half the steps ahead each; both parts keep the minimum span, in
+    // sample steps and in flightplan steps.
+    const auto [lo, hi] = cuts_.keeping_flightplan_steps(from, to, MIN_SAMPLE_STEPS_PER_CUT);
+    const int64_t cut = cuts_.best_cut(from + (to - from) / 2, (to - from) / 4,
+                                       std::max(lo, from + MIN_SAMPLE_STEPS_PER_CUT),
+                                       std::min(hi, to - MIN_SAMPLE_STEPS_PER_CUT));
     if (cut < 0) return nullptr;
     const double at = cuts_.times()[static_cast<size_t>(cut)];
     windows_.push_back(std::make_unique<ScheduledWindow>(at, victim->end));

@@ -41,7 +41,10 @@ struct ScheduledWindow {
 ///        planned sizes cannot know; many small planned windows would pay a
 ///        set-up each (a fresh front). So a check plans one window per thread
 ///        and cuts only when a thread would idle, and only a window with at
-///        least 2 x MIN_SAMPLE_STEPS_PER_CUT sample steps ahead.
+///        least 2 x MIN_SAMPLE_STEPS_PER_CUT sample steps ahead, and as many
+///        flightplan steps (WindowCuts::keeping_flightplan_steps): a window
+///        pays its set-up whatever its length, and its work follows the
+///        steps of the flightplans, not the samples they merged.
 class WindowSchedule {
 public:
     /// @param cuttable whether the method honours WindowStop; when not,

@@ -16,6 +16,14 @@ using namespace usdksl;
 
 namespace {
 
+/// A sheet that zigzags up and down, turning every 10 samples, over 100
+/// sample steps: merged flightplans break at time codes 0, 10, 20, ... only.
+std::vector<MeshAnimation> zigzag_sheet() {
+    return {animations::sheet(2, 101, [](double x, double z, int k) {
+        return Vec3(x, 0.01 * std::abs((k % 20) - 10), z);
+    })};
+}
+
 std::vector<TimeWindow> windows_of(int samples, int32_t count, WindowSizes sizes = WindowSizes::Falling) {
     const std::vector<MeshAnimation> meshes{animations::folding_cloth(4, samples)};
     const Scene scene(meshes, false);
@@ -84,9 +92,7 @@ TEST(TimeWindows, CutsFallOnTheSampleTimeWhereMostBreakpointsFall) {
     // A sheet that zigzags up and down, turning every 10 samples: merged
     // flightplans keep breakpoints at the turns (time codes 0, 10, 20, ...) only.
     const int samples = 101;
-    const std::vector<MeshAnimation> meshes{animations::sheet(2, samples, [](double x, double z, int k) {
-        return Vec3(x, 0.01 * std::abs((k % 20) - 10), z);
-    })};
+    const std::vector<MeshAnimation> meshes = zigzag_sheet();
     const Scene scene(meshes, true);
     ASSERT_TRUE(scene.merged(0));
     const WindowCuts cuts(scene, {{0, 0}}, 0.0, samples - 1.0);
@@ -100,4 +106,20 @@ TEST(TimeWindows, CutsFallOnTheSampleTimeWhereMostBreakpointsFall) {
     EXPECT_EQ(windows[0].end, 20.0);  // ideal 25: 20 and 30 are as near; the first found stays
     EXPECT_EQ(windows[1].end, 50.0);
     EXPECT_EQ(windows[2].end, 70.0);
+}
+
+TEST(TimeWindows, FlightplanStepsEndWhereMergedFlightplansBreak) {
+    const std::vector<MeshAnimation> meshes = zigzag_sheet();
+    const Scene merged(meshes, true);
+    const WindowCuts cuts(merged, {{0, 0}}, 0.0, 100.0);
+    // before a cut: the breaks at 10 and 20; after it: the break at 90 and the range's end
+    EXPECT_EQ(cuts.keeping_flightplan_steps(0, 100, 2), std::make_pair(int64_t{20}, int64_t{89}));
+    EXPECT_EQ(cuts.keeping_flightplan_steps(5, 95, 1), std::make_pair(int64_t{10}, int64_t{94}))
+        << "the range's end counts whatever breaks there";
+    const auto [lo, hi] = cuts.keeping_flightplan_steps(0, 100, 6);
+    EXPECT_GT(lo, hi) << "ten steps cannot leave six on either side";
+    // every sample breaks in flightplans of every sample: a step per sample
+    const Scene raw(meshes, false);
+    const WindowCuts raw_cuts(raw, {{0, 0}}, 0.0, 100.0);
+    EXPECT_EQ(raw_cuts.keeping_flightplan_steps(0, 100, 4), std::make_pair(int64_t{4}, int64_t{96}));
 }

@@ -111,3 +111,21 @@ TEST(WindowSchedule, AWindowCutOffIsHandedOutOnlyToTheThreadThatCutIt) {
     EXPECT_EQ(schedule.next(), nullptr) << "the cut-off window is not handed out as a planned one";
     EXPECT_EQ(schedule.in_time_order().size(), 3u);
 }
+
+TEST(WindowSchedule, KeepsTheMinimumSpanInFlightplanStepsWhereSamplesMerge) {
+    // the sheet turns every 10 samples: 10 flightplan steps over 100 sample steps
+    const std::vector<MeshAnimation> meshes{animations::sheet(2, 101, [](double x, double z, int k) {
+        return Vec3(x, 0.01 * std::abs((k % 20) - 10), z);
+    })};
+    const Scene scene(meshes, true);
+    const WindowCuts cuts(scene, {{0, 0}}, 0.0, 100.0);
+    WindowSchedule schedule(cuts, {{0.0, 100.0}}, true);
+    ScheduledWindow* running = schedule.next();
+    ASSERT_NE(running, nullptr);
+    running->stop.reach(100.0 - 10.0 * (2 * MIN_SAMPLE_STEPS_PER_CUT - 1));
+    EXPECT_EQ(schedule.next(), nullptr) << "70 sample steps ahead, but 7 flightplan steps";
+    running->stop.reach(100.0 - 10.0 * 2 * MIN_SAMPLE_STEPS_PER_CUT);
+    ScheduledWindow* taken = schedule.next();
+    ASSERT_NE(taken, nullptr) << "8 flightplan steps ahead are cut";
+    EXPECT_EQ(taken->begin, 60.0) << "at the turn that leaves four steps on either side";
+}
