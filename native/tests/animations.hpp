@@ -40,6 +40,13 @@ MeshAnimation sheet(int n, int samples, Position position) {
     return mesh;
 }
 
+/// @brief A 2 x 2-quad sheet that zigzags up and down over 100 sample steps
+///        (time codes 0..100), turning every 10 samples: merged flightplans
+///        keep breakpoints at the turns (time codes 0, 10, 20, ...) only.
+inline MeshAnimation zigzag_sheet() {
+    return sheet(2, 101, [](double x, double z, int k) { return Vec3(x, 0.01 * std::abs((k % 20) - 10), z); });
+}
+
 /// @brief A rotation that tilts a sheet out of every axis plane, so that its
 ///        box overlaps whatever lies just above or below it.
 inline Eigen::Matrix3d tilt() {

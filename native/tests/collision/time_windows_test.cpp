@@ -16,14 +16,6 @@ using namespace usdksl;
 
 namespace {
 
-/// A sheet that zigzags up and down, turning every 10 samples, over 100
-/// sample steps: merged flightplans break at time codes 0, 10, 20, ... only.
-std::vector<MeshAnimation> zigzag_sheet() {
-    return {animations::sheet(2, 101, [](double x, double z, int k) {
-        return Vec3(x, 0.01 * std::abs((k % 20) - 10), z);
-    })};
-}
-
 std::vector<TimeWindow> windows_of(int samples, int32_t count, WindowSizes sizes = WindowSizes::Falling) {
     const std::vector<MeshAnimation> meshes{animations::folding_cloth(4, samples)};
     const Scene scene(meshes, false);
@@ -92,7 +84,7 @@ TEST(TimeWindows, CutsFallOnTheSampleTimeWhereMostBreakpointsFall) {
     // A sheet that zigzags up and down, turning every 10 samples: merged
     // flightplans keep breakpoints at the turns (time codes 0, 10, 20, ...) only.
     const int samples = 101;
-    const std::vector<MeshAnimation> meshes = zigzag_sheet();
+    const std::vector<MeshAnimation> meshes{animations::zigzag_sheet()};
     const Scene scene(meshes, true);
     ASSERT_TRUE(scene.merged(0));
     const WindowCuts cuts(scene, {{0, 0}}, 0.0, samples - 1.0);
@@ -109,7 +101,7 @@ TEST(TimeWindows, CutsFallOnTheSampleTimeWhereMostBreakpointsFall) {
 }
 
 TEST(TimeWindows, FlightplanStepsEndWhereMergedFlightplansBreak) {
-    const std::vector<MeshAnimation> meshes = zigzag_sheet();
+    const std::vector<MeshAnimation> meshes{animations::zigzag_sheet()};
     const Scene merged(meshes, true);
     const WindowCuts cuts(merged, {{0, 0}}, 0.0, 100.0);
     // before a cut: the breaks at 10 and 20; after it: the break at 90 and the range's end

@@ -114,9 +114,7 @@ TEST(WindowSchedule, AWindowCutOffIsHandedOutOnlyToTheThreadThatCutIt) {
 
 TEST(WindowSchedule, KeepsTheMinimumSpanInFlightplanStepsWhereSamplesMerge) {
     // the sheet turns every 10 samples: 10 flightplan steps over 100 sample steps
-    const std::vector<MeshAnimation> meshes{animations::sheet(2, 101, [](double x, double z, int k) {
-        return Vec3(x, 0.01 * std::abs((k % 20) - 10), z);
-    })};
+    const std::vector<MeshAnimation> meshes{animations::zigzag_sheet()};
     const Scene scene(meshes, true);
     const WindowCuts cuts(scene, {{0, 0}}, 0.0, 100.0);
     WindowSchedule schedule(cuts, {{0.0, 100.0}}, true);
