@@ -29,23 +29,23 @@ auto with_points(const py::array& points_in, Use use) {
     return use(static_cast<const double*>(points.array.data()), samples, vertices);
 }
 
-py::array_t<double> longest_steps_py(const py::array& points) {
-    std::vector<double> longest = with_points(points, [](const auto* data, int64_t samples, int64_t vertices) {
-        return longest_steps(data, samples, vertices);
+py::array_t<double> longest_steps_py(const py::array& points, int32_t threads) {
+    std::vector<double> longest = with_points(points, [&](const auto* data, int64_t samples, int64_t vertices) {
+        return longest_steps(data, samples, vertices, threads);
     });
     py::array_t<double> out(static_cast<py::ssize_t>(longest.size()));
     std::copy(longest.begin(), longest.end(), out.mutable_data());
     return out;
 }
 
-py::tuple sample_boxes_py(const py::array& points) {
+py::tuple sample_boxes_py(const py::array& points, int32_t threads) {
     const py::ssize_t samples = points.ndim() == 3 ? points.shape(0) : 0;
     py::array_t<double> lowest({samples, static_cast<py::ssize_t>(3)});
     py::array_t<double> highest({samples, static_cast<py::ssize_t>(3)});
     double* low = lowest.mutable_data();
     double* high = highest.mutable_data();
     with_points(points, [&](const auto* data, int64_t count, int64_t vertices) {
-        sample_boxes(data, count, vertices, low, high);
+        sample_boxes(data, count, vertices, low, high, threads);
         return 0;
     });
     return py::make_tuple(lowest, highest);
@@ -54,10 +54,11 @@ py::tuple sample_boxes_py(const py::array& points) {
 } // namespace
 
 void define_sample_motion(py::module_& m) {
-    m.def("longest_steps", &longest_steps_py, py::arg("points"),
+    m.def("longest_steps", &longest_steps_py, py::arg("points"), py::arg("threads") = 1,
           "float64[K - 1]: per sample interval of points [K, N, 3] (float32 read as they are, anything else as "
-          "float64), the longest displacement of any vertex, sqrt of the largest dx*dx + dy*dy + dz*dz in double.");
-    m.def("sample_boxes", &sample_boxes_py, py::arg("points"),
+          "float64), the longest displacement of any vertex, sqrt of the largest dx*dx + dy*dy + dz*dz in double; "
+          "up to `threads` threads, the same answer for any count.");
+    m.def("sample_boxes", &sample_boxes_py, py::arg("points"), py::arg("threads") = 1,
           "(lowest, highest): float64[K, 3] per sample of points [K, N, 3], the least and greatest coordinate "
-          "along each axis.");
+          "along each axis; up to `threads` threads, the same answer for any count.");
 }

@@ -85,7 +85,8 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     messages: List[Message] = []
     say = message_collector(messages, on_message)
     planned = load_and_plan(shot, options, name, say, stage=stage)
-    report_blowups(planned.segments, planned.plans, name, say, options.strict)
+    report_blowups(planned.segments, planned.plans, name, say, options.strict,
+                   options.threads or default_threads())
     span = checked_span(options, planned.segments)
     bar = progress(span[0], span[1]) if progress is not None else None
     # the backwards run of --last-contact goes from -end to -start

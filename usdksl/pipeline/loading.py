@@ -58,13 +58,14 @@ def checked_span(options: CheckOptions, segments) -> TimeRange:
 
 
 def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[..., None],
-                   strict: bool) -> None:
+                   strict: bool, threads: int = 1) -> None:
     """Warn about vertices of checked meshes that blow up and about checked meshes, or most of one, that
     jump away and back (cache glitches; usdksl.reading.blowups); under ``strict`` the first glitch, else
-    the first blow-up, is an input error (exit 2, nothing written)."""
+    the first blow-up, is an input error (exit 2, nothing written). ``threads``: how many the scan's passes
+    over a mesh's samples may use."""
     for (_, segment), segment_plan in zip(segments, plans):
         checked = sorted(set(segment_plan.pairs.reshape(-1).tolist()))
-        blowups, glitches = shot_faults([segment.meshes[index] for index in checked])
+        blowups, glitches = shot_faults([segment.meshes[index] for index in checked], threads)
         if glitches and strict:
             first = glitches[0]
             raise UsdkslInputError(f"cache glitch: {first.describe()} (--strict)", file=name, prim=first.prim,

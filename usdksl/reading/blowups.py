@@ -170,9 +170,10 @@ class Glitch:
                 f"{self.distance / self.mesh_size:.3g}x the mesh's size ({self.mesh_size:.3g})")
 
 
-def sample_boxes(points: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-    """(lowest, highest): float64[K, 3] bounding box of each sample of float[K, N, 3] points (scene units)."""
-    lowest, highest = _native.sample_boxes(points)   # one pass, no copy; minimum and maximum are exact
+def sample_boxes(points: np.ndarray, threads: int = 1) -> Tuple[np.ndarray, np.ndarray]:
+    """(lowest, highest): float64[K, 3] bounding box of each sample of float[K, N, 3] points (scene units), on up
+    to ``threads`` threads."""
+    lowest, highest = _native.sample_boxes(points, threads)   # one pass, no copy; minimum and maximum are exact
     return lowest, highest
 
 
@@ -184,18 +185,19 @@ def mesh_size(points: np.ndarray, boxes: Optional[Tuple[np.ndarray, np.ndarray]]
 
 
 def find_blowups(prim: str, times: np.ndarray, points: np.ndarray, glitches: Sequence[Glitch] = (),
-                 size: Optional[float] = None) -> List[Blowup]:
+                 size: Optional[float] = None, threads: int = 1) -> List[Blowup]:
     """Every (vertex, step) of one mesh whose excess motion exceeds the threshold, in time order.
 
     ``glitches``: the mesh's glitches (:func:`find_glitches`); on the steps into and out of each, vertices
-    outside the part that jumped are not blow-ups. ``size``: the mesh's size when already known."""
+    outside the part that jumped are not blow-ups. ``size``: the mesh's size when already known. ``threads``:
+    how many the first pass over every step may use."""
     if points.shape[0] < 2 or points.shape[1] == 0:
         return []
     size = mesh_size(points) if size is None else size
     threshold = BLOWUP_SIZE_FACTOR * size
     found: List[Blowup] = []
     # one native pass over every step (no float64 copy of the samples); only the suspects are measured
-    largest = _native.longest_steps(points)
+    largest = _native.longest_steps(points, threads)
     suspects = np.nonzero(~(EXCESS_BOUND_FACTOR * largest <= threshold))[0]  # NaN stays suspect
     steps_per_block = max(1, BLOWUP_BLOCK_VALUES // (3 * points.shape[1]))
     for first in range(0, suspects.size, steps_per_block):
@@ -347,26 +349,27 @@ def find_glitches(prim: str, times: np.ndarray, points: np.ndarray, size: Option
     return found
 
 
-def mesh_faults(mesh) -> Tuple[List[Blowup], List[Glitch]]:
+def mesh_faults(mesh, threads: int = 1) -> Tuple[List[Blowup], List[Glitch]]:
     """(blow-ups, glitches) of one mesh (MeshData with path, kind, times, points): glitches of a moving
-    mesh, blow-ups of a deforming one."""
+    mesh, blow-ups of a deforming one. ``threads``: how many the passes over every sample may use."""
     kind = getattr(mesh, "kind", "deforming")
     if kind not in MOVING_KINDS or mesh.points.shape[0] < 2 or mesh.points.shape[1] == 0:
         return [], []
-    boxes = sample_boxes(mesh.points)
+    boxes = sample_boxes(mesh.points, threads)
     size = mesh_size(mesh.points, boxes)
     glitches = find_glitches(mesh.path, mesh.times, mesh.points, size, boxes)
     if kind != "deforming":
         return [], glitches
-    return find_blowups(mesh.path, mesh.times, mesh.points, glitches, size), glitches
+    return find_blowups(mesh.path, mesh.times, mesh.points, glitches, size, threads), glitches
 
 
-def shot_faults(meshes: Sequence) -> Tuple[List[Blowup], List[Glitch]]:
-    """(blow-ups, glitches) of every mesh of a loaded shot (:func:`mesh_faults`), mesh by mesh."""
+def shot_faults(meshes: Sequence, threads: int = 1) -> Tuple[List[Blowup], List[Glitch]]:
+    """(blow-ups, glitches) of every mesh of a loaded shot (:func:`mesh_faults`), mesh by mesh, each pass over
+    a mesh's samples on up to ``threads`` threads."""
     blowups: List[Blowup] = []
     glitches: List[Glitch] = []
     for mesh in meshes:
-        mesh_blowups, mesh_glitches = mesh_faults(mesh)
+        mesh_blowups, mesh_glitches = mesh_faults(mesh, threads)
         blowups.extend(mesh_blowups)
         glitches.extend(mesh_glitches)
     return blowups, glitches

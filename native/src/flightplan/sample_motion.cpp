@@ -1,5 +1,7 @@
 #include "usdksl/flightplan/sample_motion.hpp"
 
+#include "usdksl/run_on_threads.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -8,11 +10,32 @@
 namespace usdksl {
 namespace {
 
+/// Threads for a pass over `samples` samples of `vertices` vertices: no more
+/// than the caller allows, each with SAMPLE_MOTION_VALUES_PER_THREAD values at least.
+int32_t threads_for(int64_t samples, int64_t vertices, int32_t threads) {
+    const int64_t values = samples * vertices * 3;
+    return static_cast<int32_t>(std::clamp<int64_t>(values / SAMPLE_MOTION_VALUES_PER_THREAD, 1, std::max(threads, 1)));
+}
+
+/// Calls body(first, last) for consecutive ranges of [0, count) on `threads` threads.
+template <typename Body>
+void over_ranges(int64_t count, int32_t threads, Body body) {
+    if (threads <= 1 || count < 2) {
+        body(int64_t{0}, count);
+        return;
+    }
+    const int32_t parts = static_cast<int32_t>(std::min<int64_t>(count, int64_t{threads} * 4));
+    parallel_for(threads, parts, [&](int32_t part) {
+        body(count * part / parts, count * (part + 1) / parts);
+    });
+}
+
 template <typename Real>
-std::vector<double> longest_steps_of(const Real* points, int64_t samples, int64_t vertices) {
+std::vector<double> longest_steps_of(const Real* points, int64_t samples, int64_t vertices, int32_t threads) {
     std::vector<double> longest(static_cast<size_t>(std::max<int64_t>(samples - 1, 0)), 0.0);
     const size_t row = static_cast<size_t>(vertices) * 3;
-    for (int64_t k = 0; k + 1 < samples; ++k) {
+    over_ranges(samples - 1, threads_for(samples, vertices, threads), [&](int64_t first, int64_t last) {
+    for (int64_t k = first; k < last; ++k) {
         const Real* p = points + static_cast<size_t>(k) * row;
         const Real* q = p + row;
         double largest = 0.0;
@@ -26,13 +49,16 @@ std::vector<double> longest_steps_of(const Real* points, int64_t samples, int64_
         }
         longest[static_cast<size_t>(k)] = std::sqrt(largest);
     }
+    });
     return longest;
 }
 
 template <typename Real>
-void sample_boxes_of(const Real* points, int64_t samples, int64_t vertices, double* lowest, double* highest) {
+void sample_boxes_of(const Real* points, int64_t samples, int64_t vertices, double* lowest, double* highest,
+                     int32_t threads) {
     const size_t row = static_cast<size_t>(vertices) * 3;
-    for (int64_t k = 0; k < samples; ++k) {
+    over_ranges(samples, threads_for(samples, vertices, threads), [&](int64_t first, int64_t last) {
+    for (int64_t k = first; k < last; ++k) {
         const Real* p = points + static_cast<size_t>(k) * row;
         double lo[3], hi[3];
         for (int axis = 0; axis < 3; ++axis) {
@@ -51,24 +77,27 @@ void sample_boxes_of(const Real* points, int64_t samples, int64_t vertices, doub
             highest[3 * k + axis] = hi[axis];
         }
     }
+    });
 }
 
 } // namespace
 
-std::vector<double> longest_steps(const float* points, int64_t samples, int64_t vertices) {
-    return longest_steps_of(points, samples, vertices);
+std::vector<double> longest_steps(const float* points, int64_t samples, int64_t vertices, int32_t threads) {
+    return longest_steps_of(points, samples, vertices, threads);
 }
 
-std::vector<double> longest_steps(const double* points, int64_t samples, int64_t vertices) {
-    return longest_steps_of(points, samples, vertices);
+std::vector<double> longest_steps(const double* points, int64_t samples, int64_t vertices, int32_t threads) {
+    return longest_steps_of(points, samples, vertices, threads);
 }
 
-void sample_boxes(const float* points, int64_t samples, int64_t vertices, double* lowest, double* highest) {
-    sample_boxes_of(points, samples, vertices, lowest, highest);
+void sample_boxes(const float* points, int64_t samples, int64_t vertices, double* lowest, double* highest,
+                  int32_t threads) {
+    sample_boxes_of(points, samples, vertices, lowest, highest, threads);
 }
 
-void sample_boxes(const double* points, int64_t samples, int64_t vertices, double* lowest, double* highest) {
-    sample_boxes_of(points, samples, vertices, lowest, highest);
+void sample_boxes(const double* points, int64_t samples, int64_t vertices, double* lowest, double* highest,
+                  int32_t threads) {
+    sample_boxes_of(points, samples, vertices, lowest, highest, threads);
 }
 
 } // namespace usdksl

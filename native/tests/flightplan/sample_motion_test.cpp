@@ -56,3 +56,21 @@ TEST(SampleMotion, BoxesHoldEachSampleAlone) {
     EXPECT_EQ(lowest, (std::vector<double>{0, 0, 0, 1, 0, 0, 2, 0, -2}));
     EXPECT_EQ(highest, (std::vector<double>{10, 10, 10, 13, 14, 10, 13, 14, 0}));
 }
+
+TEST(SampleMotion, AnyThreadCountGivesTheSameSteps) {
+    // enough coordinates for four threads: 40 samples of 36,000 vertices
+    const int64_t samples = 40, vertices = 36000;
+    ASSERT_GE(samples * vertices * 3, 4 * SAMPLE_MOTION_VALUES_PER_THREAD);
+    std::vector<float> points(static_cast<size_t>(samples * vertices * 3));
+    for (size_t i = 0; i < points.size(); ++i) points[i] = static_cast<float>(std::sin(0.37 * static_cast<double>(i)) * (1.0 + i % 97));
+    const std::vector<double> one = longest_steps(points.data(), samples, vertices, 1);
+    std::vector<double> lo_one(3 * samples), hi_one(3 * samples);
+    sample_boxes(points.data(), samples, vertices, lo_one.data(), hi_one.data(), 1);
+    for (int32_t threads : {2, 3, 4, 7}) {
+        EXPECT_EQ(longest_steps(points.data(), samples, vertices, threads), one) << threads << " threads";
+        std::vector<double> lo(3 * samples), hi(3 * samples);
+        sample_boxes(points.data(), samples, vertices, lo.data(), hi.data(), threads);
+        EXPECT_EQ(lo, lo_one) << threads << " threads";
+        EXPECT_EQ(hi, hi_one) << threads << " threads";
+    }
+}
