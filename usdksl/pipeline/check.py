@@ -29,9 +29,9 @@ from ..reading.scope import (MOTION_SKIP_REASONS, Plan, ScopeOptions, include_pr
 from ..regions.baseline import AnyBaseline, compare_any
 from ..regions.find import concatenate_regions, find_regions
 from ..reports.formats import mesh_pair_lines, region_lines
+from ..reports.shot_hash import file_sha256_in_background
 from ..warning_kinds import BASELINE_MISMATCH, EMPTY_MESH, NOT_A_SURFACE, NOTHING_CHECKED, SPARSE_SKIN_KEYS
 from .coverage import shot_coverage
-from ..reports.shot_hash import file_sha256_in_background
 from .files import OutputTargets, concatenate_pieces, render_files, root_layer_file
 from .loading import PlannedShot, checked_span, load_segments, report_blowups, require_samples_in_range
 from .memory_budget import format_bytes, memory_limit, plan_memory, sources_size
@@ -85,8 +85,7 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
     messages: List[Message] = []
     say = message_collector(messages, on_message)
     planned = load_and_plan(shot, options, name, say, stage=stage)
-    report_blowups(planned.segments, planned.plans, name, say, options.strict,
-                   options.threads or default_threads())
+    report_blowups(planned.segments, planned.plans, name, say, options.strict, options.threads)
     span = checked_span(options, planned.segments)
     bar = progress(span[0], span[1]) if progress is not None else None
     # the backwards run of --last-contact goes from -end to -start

@@ -8,6 +8,7 @@ from typing import Callable, List, Optional, Sequence
 
 import numpy as np
 
+from ..checking.collision import default_threads
 from ..errors import UsdkslGapError, UsdkslInputError
 from ..reading.blowups import describe_blowups, describe_glitches, shot_faults
 from ..reading.loader import MeshSources, load_sources
@@ -58,11 +59,12 @@ def checked_span(options: CheckOptions, segments) -> TimeRange:
 
 
 def report_blowups(segments, plans: Sequence[Plan], name: str, say: Callable[..., None],
-                   strict: bool, threads: int = 1) -> None:
+                   strict: bool, threads: Optional[int] = None) -> None:
     """Warn about vertices of checked meshes that blow up and about checked meshes, or most of one, that
     jump away and back (cache glitches; usdksl.reading.blowups); under ``strict`` the first glitch, else
     the first blow-up, is an input error (exit 2, nothing written). ``threads``: how many the scan's passes
-    over a mesh's samples may use."""
+    over a mesh's samples may use (default: every core this process may run on, as find_contacts)."""
+    threads = threads or default_threads()
     for (_, segment), segment_plan in zip(segments, plans):
         checked = sorted(set(segment_plan.pairs.reshape(-1).tolist()))
         blowups, glitches = shot_faults([segment.meshes[index] for index in checked], threads)

@@ -456,27 +456,27 @@ def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.
     # points that no transform moves are read straight into their place: no block, no product
     as_authored = (fixed_matrix is not None and out.dtype == first.dtype
                    and np.array_equal(fixed_matrix, IDENTITY_MATRIX))
-    if not animated:   # one local, moved by each sample's matrix: no block of copies of it
-        block = None
-        first_world = first.astype(out.dtype)   # cast once, as _to_world casts each block
-    elif not as_authored:
-        block = np.empty((min(samples_per_block, times.shape[0]),) + first.shape, dtype=first.dtype)
+    # held points (a rigid mesh) need no block: the one local goes against each sample's matrix
+    block = (np.empty((min(samples_per_block, times.shape[0]),) + first.shape, dtype=first.dtype)
+             if animated and not as_authored else None)
     local_constant = True
     for start in range(0, times.shape[0], samples_per_block):
         if as_authored:
             block = out[start:start + samples_per_block]
         stop = min(start + samples_per_block, times.shape[0])
-        read, failure = (0, None) if animated else (stop - start, None)
-        for k in range(start, stop if animated else start):
-            try:
-                local = read_local_points(file, path, attribute, float(times[k]), topology)
-            except UsdkslInputError as error:   # raised once the samples before it are checked
-                failure = error
-                break
-            if local.dtype != first.dtype:
-                return None
-            block[read] = local
-            read += 1
+        read, failure = stop - start, None
+        if animated:
+            read = 0
+            for k in range(start, stop):
+                try:
+                    local = read_local_points(file, path, attribute, float(times[k]), topology)
+                except UsdkslInputError as error:   # raised once the samples before it are checked
+                    failure = error
+                    break
+                if local.dtype != first.dtype:
+                    return None
+                block[read] = local
+                read += 1
         if read:
             world = out[start:start + read]
             if fixed_matrix is not None:
@@ -489,10 +489,8 @@ def _points_in_blocks(file: str, path: str, attribute: Usd.Attribute, times: np.
             if bad_matrix == 0:
                 raise UsdkslInputError("local-to-world transform is not finite", file=file, prim=path,
                                        time=float(times[start]))
-            if not animated:
-                _to_world(first_world, matrix, world)
-            elif not as_authored:
-                _to_world(block[:read], matrix, world)
+            if not as_authored:
+                _to_world(block[:read] if animated else first, matrix, world)
             finite = np.isfinite(world).all(axis=(1, 2))
             bad = read if finite.all() else int(np.argmin(finite))
             if bad < bad_matrix:

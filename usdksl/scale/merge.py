@@ -27,7 +27,6 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..regions.baseline import AnyBaseline
-from ..checking.collision import default_threads
 from ..contacts.csv_file import CONTACT_COLUMNS, read_contacts_csv
 from ..contacts.table import ContactTable, face_pair_ids, latest_per_face_pair, match_face_pairs
 from ..errors import UsdkslUsageError
@@ -271,8 +270,7 @@ def merge_parts(shot: str, name: str, options: CheckOptions, targets: OutputTarg
         raise UsdkslUsageError(f"cannot merge: the shot changes topology inside the checked range; "
                                f"check it whole", file=name)
     loaded = planned.segments[0][1]
-    report_blowups(planned.segments, planned.plans, name, say, options.strict,
-                   options.threads or default_threads())
+    report_blowups(planned.segments, planned.plans, name, say, options.strict, options.threads)
     span = checked_span(options, planned.segments)
     if (parts[0].start, max(part.end for part in parts)) != tuple(span):
         raise UsdkslUsageError(f"cannot merge: the parts cover {parts[0].start:g}..{max(p.end for p in parts):g}, "

@@ -35,14 +35,23 @@ std::vector<int64_t> WindowCuts::breakpoints_at(int64_t first, int64_t last) con
 }
 
 std::pair<int64_t, int64_t> WindowCuts::keeping_flightplan_steps(int64_t first, int64_t last, int64_t steps) const {
-    const std::vector<int64_t> breaks = breakpoints_at(first, last);
-    const auto breaks_at = [&](int64_t i) { return i == last || breaks[static_cast<size_t>(i - first)] > 0; };
-    int64_t lo = first, seen = 0;
-    while (lo < last && seen < steps) seen += breaks_at(++lo) ? 1 : 0;
-    int64_t hi = last;
-    seen = 0;
-    while (hi > first && seen < steps) seen += breaks_at(hi--) ? 1 : 0;
-    return {lo, hi};
+    // Breakpoints are counted from each end outward, in chunks that double,
+    // as far as the steps reach: a cut near the end of a long window counts
+    // only those it needs.
+    const auto walk = [&](int64_t from, int64_t direction) {
+        int64_t at = from, seen = 0;
+        for (int64_t chunk = 4 * steps; seen < steps && at != (direction > 0 ? last : first); chunk *= 2) {
+            const int64_t begin = direction > 0 ? at + 1 : std::max(first + 1, at - chunk + 1);
+            const int64_t end = direction > 0 ? std::min(last, at + chunk) : at;
+            const std::vector<int64_t> breaks = breakpoints_at(begin, end);
+            for (; seen < steps && at != (direction > 0 ? end : begin - 1); at += direction) {
+                const int64_t i = direction > 0 ? at + 1 : at;
+                seen += i == last || breaks[static_cast<size_t>(i - begin)] > 0 ? 1 : 0;
+            }
+        }
+        return at;
+    };
+    return {walk(first, 1), walk(last, -1)};
 }
 
 int64_t WindowCuts::index_at_or_after(double t) const {

@@ -44,7 +44,6 @@ public:
     void reset(const MeshAnimation& mesh, int32_t v, int64_t anchor) {
         mesh_ = &mesh;
         v_ = v;
-        anchor_ = anchor;
         anchor_time_ = mesh.times[anchor];
         anchor_point_ = mesh.sample_point(anchor, v);
         anchor_magnitude_ = point_magnitude(anchor_point_);
@@ -86,7 +85,6 @@ public:
 private:
     const MeshAnimation* mesh_ = nullptr;
     int32_t v_ = 0;
-    int64_t anchor_ = 0;
     double anchor_time_ = 0.0;  // time code
     Vec3 anchor_point_ = Vec3::Zero();  // scene units
     double anchor_magnitude_ = 0.0;  // scene units

@@ -38,29 +38,38 @@ struct Flightplans::VertexRun {
     int64_t first_key = 0;  // index of the run's first breakpoint among the mesh's
 };
 
+namespace {
+
+/// Vertex v's position at sample k of `mesh`; throws std::invalid_argument
+/// when a coordinate is not finite.
+Vec3 finite_sample_point(const MeshAnimation& mesh, int64_t k, int32_t v) {
+    const Vec3 p = mesh.sample_point(k, v);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+        throw std::invalid_argument("flightplans: non-finite point coordinate");
+    }
+    return p;
+}
+
+} // namespace
+
 void Flightplans::choose_breakpoints(VertexRun& run) {
     const MeshAnimation& mesh = *run.mesh;
     const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
-    run.count.reserve(static_cast<size_t>(run.last - run.first));
-    if (run.merge_collinear) {
-        run.deviation.reserve(static_cast<size_t>(run.last - run.first));
-        run.kept_per_sample.assign(static_cast<size_t>(sample_count), 0);
-    }
+    const size_t run_size = static_cast<size_t>(run.last - run.first);
     if (!run.merge_collinear) {  // every sample a breakpoint: the samples are read in memory order
-        run.magnitude.assign(static_cast<size_t>(run.last - run.first), 0.0);
+        run.magnitude.assign(run_size, 0.0);
         for (int64_t k = 0; k < sample_count; ++k) {
             for (int32_t v = run.first; v < run.last; ++v) {
-                const Vec3 p = mesh.sample_point(k, v);
-                if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-                    throw std::invalid_argument("flightplans: non-finite point coordinate");
-                }
                 double& magnitude = run.magnitude[static_cast<size_t>(v - run.first)];
-                magnitude = std::max(magnitude, point_magnitude(p));
+                magnitude = std::max(magnitude, point_magnitude(finite_sample_point(mesh, k, v)));
             }
         }
-        run.count.assign(static_cast<size_t>(run.last - run.first), sample_count);
+        run.count.assign(run_size, sample_count);
         return;
     }
+    run.count.reserve(run_size);
+    run.deviation.reserve(run_size);
+    run.kept_per_sample.assign(static_cast<size_t>(sample_count), 0);
     std::vector<int64_t> kept[COLLINEAR_MERGE_LANES];
     double deviation[COLLINEAR_MERGE_LANES];
     for (std::vector<int64_t>& lane : kept) lane.reserve(static_cast<size_t>(sample_count));
@@ -69,12 +78,7 @@ void Flightplans::choose_breakpoints(VertexRun& run) {
         // Each vertex's samples, a whole sample of the mesh apart: this walk
         // also brings them into the cache for the merge's walks.
         for (int32_t v = first; v < first + count; ++v) {
-            for (int64_t k = 0; k < sample_count; ++k) {
-                const Vec3 p = mesh.sample_point(k, v);
-                if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-                    throw std::invalid_argument("flightplans: non-finite point coordinate");
-                }
-            }
+            for (int64_t k = 0; k < sample_count; ++k) finite_sample_point(mesh, k, v);
         }
         merge_collinear_samples_of(mesh, first, count, kept, deviation);
         for (int32_t i = 0; i < count; ++i) {

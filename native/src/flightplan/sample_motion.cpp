@@ -17,25 +17,11 @@ int32_t threads_for(int64_t samples, int64_t vertices, int32_t threads) {
     return static_cast<int32_t>(std::clamp<int64_t>(values / SAMPLE_MOTION_VALUES_PER_THREAD, 1, std::max(threads, 1)));
 }
 
-/// Calls body(first, last) for consecutive ranges of [0, count) on `threads` threads.
-template <typename Body>
-void over_ranges(int64_t count, int32_t threads, Body body) {
-    if (threads <= 1 || count < 2) {
-        body(int64_t{0}, count);
-        return;
-    }
-    const int32_t parts = static_cast<int32_t>(std::min<int64_t>(count, int64_t{threads} * 4));
-    parallel_for(threads, parts, [&](int32_t part) {
-        body(count * part / parts, count * (part + 1) / parts);
-    });
-}
-
 template <typename Real>
 std::vector<double> longest_steps_of(const Real* points, int64_t samples, int64_t vertices, int32_t threads) {
     std::vector<double> longest(static_cast<size_t>(std::max<int64_t>(samples - 1, 0)), 0.0);
     const size_t row = static_cast<size_t>(vertices) * 3;
-    over_ranges(samples - 1, threads_for(samples, vertices, threads), [&](int64_t first, int64_t last) {
-    for (int64_t k = first; k < last; ++k) {
+    parallel_for(threads_for(samples, vertices, threads), static_cast<int32_t>(samples - 1), [&](int32_t k) {
         const Real* p = points + static_cast<size_t>(k) * row;
         const Real* q = p + row;
         double largest = 0.0;
@@ -48,7 +34,6 @@ std::vector<double> longest_steps_of(const Real* points, int64_t samples, int64_
             largest = squared > largest || std::isnan(squared) ? squared : largest;
         }
         longest[static_cast<size_t>(k)] = std::sqrt(largest);
-    }
     });
     return longest;
 }
@@ -57,8 +42,7 @@ template <typename Real>
 void sample_boxes_of(const Real* points, int64_t samples, int64_t vertices, double* lowest, double* highest,
                      int32_t threads) {
     const size_t row = static_cast<size_t>(vertices) * 3;
-    over_ranges(samples, threads_for(samples, vertices, threads), [&](int64_t first, int64_t last) {
-    for (int64_t k = first; k < last; ++k) {
+    parallel_for(threads_for(samples, vertices, threads), static_cast<int32_t>(samples), [&](int32_t k) {
         const Real* p = points + static_cast<size_t>(k) * row;
         double lo[3], hi[3];
         for (int axis = 0; axis < 3; ++axis) {
@@ -76,7 +60,6 @@ void sample_boxes_of(const Real* points, int64_t samples, int64_t vertices, doub
             lowest[3 * k + axis] = lo[axis];
             highest[3 * k + axis] = hi[axis];
         }
-    }
     });
 }
 
