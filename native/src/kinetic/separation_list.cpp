@@ -512,12 +512,15 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     const std::vector<Triangle>& triangles = scene_.meshes[list.mesh_a].triangles;
     const Triangle& ids_a = triangles[pair.tri_a];
     const Triangle& ids_b = triangles[pair.tri_b];
+    const std::array<Vec3, 3> a0 = triangle_corners(tree.begin_points(), ids_a);
+    const std::array<Vec3, 3> b0 = triangle_corners(tree.begin_points(), ids_b);
+    SharedVertexReach reach;
+    reach.contact_distance = margin_of(list);
+    reach.tolerance = tester_.settings().tolerance;
+    reach.magnitude = std::max(scene_.triangle_magnitude(list.mesh_a, pair.tri_a),
+                               scene_.triangle_magnitude(list.mesh_a, pair.tri_b));
     const auto start_certificate = [&]() {
-        const double magnitude = std::max(scene_.triangle_magnitude(list.mesh_a, pair.tri_a),
-                                          scene_.triangle_magnitude(list.mesh_a, pair.tri_b));
-        pair.clearance.start(ids_a, triangle_corners(tree.begin_points(), ids_a), ids_b,
-                             triangle_corners(tree.begin_points(), ids_b),
-                             margin_of(list), tester_.settings().tolerance, magnitude);
+        pair.clearance.start(ids_a, a0, ids_b, b0);
         pair.certified = pair.fresh = true;
     };
     // The schedule of TrianglePairTester::test_steps: a certificate that fails
@@ -528,9 +531,7 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
         // The window's first step: a certificate that holds at its begin
         // proves what the static test would find (no contact there).
         pair.static_pending = false;
-        const std::array<Vec3, 3> a0 = triangle_corners(tree.begin_points(), ids_a);
-        const std::array<Vec3, 3> b0 = triangle_corners(tree.begin_points(), ids_b);
-        const bool clear = pair.certified && pair.clearance.holds_at(a0, b0) &&
+        const bool clear = pair.certified && pair.clearance.holds_over(ids_a, a0, a0, ids_b, b0, b0, reach) &&
                            !edge_pierces_triangle(ids_a, a0, ids_b, b0) && !edge_pierces_triangle(ids_b, b0, ids_a, a0);
         if (!clear && tester_.test_static(list.mesh_a, pair.tri_a, list.mesh_b, pair.tri_b, t_begin_)) {
             pair.static_hit = true;
@@ -543,10 +544,10 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     }
     const std::array<Vec3, 3> a1 = triangle_corners(tree.end_points(), ids_a);
     const std::array<Vec3, 3> b1 = triangle_corners(tree.end_points(), ids_b);
-    bool cleared = pair.clearance.holds_at(a1, b1);
+    bool cleared = pair.clearance.holds_over(ids_a, a0, a1, ids_b, b0, b1, reach);
     if (!cleared && !pair.fresh) {
         start_certificate();
-        cleared = pair.clearance.holds_at(a1, b1);
+        cleared = pair.clearance.holds_over(ids_a, a0, a1, ids_b, b0, b1, reach);
     }
     if (cleared) {
         pair.fresh = false;

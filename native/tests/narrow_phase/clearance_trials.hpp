@@ -52,8 +52,9 @@ struct ClearanceTrialCounts {
 
 /// @brief Runs the trials. `start(random, settings, trial)` returns a trial's
 ///        pair at its start and starts the certificate there; `move(random,
-///        pair)` returns the pair at the next breakpoint; `holds(pair)` asks
-///        the certificate there. A trial ends at the first step not cleared.
+///        pair)` returns the pair at the next breakpoint; `holds(pair, next)`
+///        asks the certificate over the step from one to the other. A trial
+///        ends at the first step not cleared.
 template <class Start, class Move, class Holds>
 ClearanceTrialCounts run_clearance_trials(uint32_t seed, bool same_mesh, Start&& start, Move&& move, Holds&& holds) {
     TrialRandom random(seed);
@@ -65,7 +66,7 @@ ClearanceTrialCounts run_clearance_trials(uint32_t seed, bool same_mesh, Start&&
             TrialPair pair = start(random, settings, trial);
             for (int step = 0; step < kStepsPerTrial; ++step) {
                 const TrialPair next = move(random, pair);
-                const bool certified = holds(next);
+                const bool certified = holds(pair, next);
                 const bool hit = triangle_pair_ccd({pair.ids_a, pair.a, next.a}, {pair.ids_b, pair.b, next.b},
                                                    same_mesh, settings).hit;
                 EXPECT_FALSE(certified && hit) << "thickness " << thickness << " trial " << trial << " step " << step;

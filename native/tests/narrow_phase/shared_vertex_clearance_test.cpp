@@ -1,13 +1,14 @@
 /// @file shared_vertex_clearance_test.cpp
 /// @brief The certificate of vertex-sharing triangles clears only steps the
-///        narrow phase answers "no contact" on, keeps a pair that moves
-///        together cleared, and ends when one folds onto the other.
+///        narrow phase answers "no contact" on, keeps a pair that moves or
+///        turns together cleared, and ends when one folds onto the other.
 
 #include "usdksl/narrow_phase/shared_vertex_clearance.hpp"
 #include "usdksl/narrow_phase/triangle_pair.hpp"
 
 #include "narrow_phase/clearance_trials.hpp"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,8 +22,27 @@ using trials::Positions;
 
 Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
 
+/// Positions turned by `turn` about `centre`.
+Positions turned(const Positions& p, const Eigen::Matrix3d& turn, const Vec3& centre) {
+    return {centre + turn * (p[0] - centre), centre + turn * (p[1] - centre), centre + turn * (p[2] - centre)};
+}
+
 /// Magnitude bound for positions within this many scene units of the origin.
 constexpr double kMagnitude = 10.0;
+
+SharedVertexReach reach_of(double contact_distance, double tolerance = DEFAULT_CCD_TOLERANCE) {
+    SharedVertexReach reach;
+    reach.contact_distance = contact_distance;
+    reach.tolerance = tolerance;
+    reach.magnitude = kMagnitude;
+    return reach;
+}
+
+/// Two triangles of a cloth's fan around vertex 0 that share only it, at an
+/// angle of 90 degrees between them.
+const Triangle kFanA{0, 1, 2}, kFanB{3, 0, 4};
+const Positions kFanAt{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.7, 0.7, 0)};
+const Positions kFanBt{Vec3(-0.7, 0.7, 0), Vec3(0, 0, 0), Vec3(-1, 0, 0)};
 
 } // namespace
 
@@ -32,61 +52,169 @@ TEST(SharedVertexClearance, APairMovingTogetherStaysCleared) {
     const Positions a{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
     const Positions b{Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(1, -1, 0)};
     SharedVertexClearance clearance;
-    clearance.start(ids_a, a, ids_b, b, 0.001, DEFAULT_CCD_TOLERANCE, kMagnitude);
+    clearance.start(ids_a, a, ids_b, b);
     for (int step = 1; step <= 20; ++step) {
+        const Vec3 from(0.3 * (step - 1), -0.2 * (step - 1), 0.1 * (step - 1));
         const Vec3 by(0.3 * step, -0.2 * step, 0.1 * step);
-        EXPECT_TRUE(clearance.holds_at(shifted(a, by), shifted(b, by))) << "step " << step;
+        EXPECT_TRUE(clearance.holds_over(ids_a, shifted(a, from), shifted(a, by), ids_b, shifted(b, from),
+                                         shifted(b, by), reach_of(0.001)))
+            << "step " << step;
     }
 }
 
-TEST(SharedVertexClearance, FoldingOneTriangleOntoTheOtherEndsIt) {
-    // B turns about the shared edge until it lies on A: before it gets there,
-    // the certificate must have stopped clearing.
-    const Triangle ids_a{0, 1, 2}, ids_b{0, 1, 3};
-    const Positions a{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1, 0)};
-    const auto folded = [](double angle) {
-        return Positions{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, -std::cos(angle), std::sin(angle))};
+TEST(SharedVertexClearance, APairTurningTogetherStaysCleared) {
+    // A fan pair (sharing a vertex) and a hinged pair (sharing an edge) turn
+    // a whole turn about a tilted axis through a point off the pair, 10
+    // degrees a step, while moving: the drift from where they started grows
+    // to twice their size, so only a proof that turns with them keeps them
+    // cleared.
+    const Triangle hinge_a{0, 1, 2}, hinge_b{1, 0, 3};
+    const Positions hinge_at{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.4, 0.9, 0.1)};
+    const Positions hinge_bt{Vec3(1, 0, 0), Vec3(0, 0, 0), Vec3(0.6, -0.8, 0.2)};
+    const Vec3 axis = Vec3(0.3, -1.0, 0.5).normalized();
+    const Vec3 centre(2.0, -1.0, 0.5);
+    const auto at = [&](int step, const Positions& p) {
+        const Eigen::Matrix3d turn = Eigen::AngleAxisd(step * M_PI / 18.0, axis).toRotationMatrix();
+        return shifted(turned(p, turn, centre), Vec3(0.05 * step, 0.0, -0.02 * step));
     };
+    for (const bool hinged : {false, true}) {
+        const Triangle& ids_a = hinged ? hinge_a : kFanA;
+        const Triangle& ids_b = hinged ? hinge_b : kFanB;
+        const Positions& a = hinged ? hinge_at : kFanAt;
+        const Positions& b = hinged ? hinge_bt : kFanBt;
+        SharedVertexClearance clearance;
+        clearance.start(ids_a, a, ids_b, b);
+        for (int step = 1; step <= 36; ++step) {
+            EXPECT_TRUE(clearance.holds_over(ids_a, at(step - 1, a), at(step, a), ids_b, at(step - 1, b), at(step, b),
+                                             reach_of(0.001)))
+                << "step " << step << (hinged ? ", hinged pair" : ", fan pair");
+        }
+    }
+}
+
+TEST(SharedVertexClearance, AStepFarFromTheLastIsJudgedOnItsOwn) {
+    // Asked of a step half a turn on, with no step between, the certificate
+    // answers for that step alone: the fan pair turned there still clears,
+    // and the pair folded there does not.
+    SharedVertexClearance clearance;
+    clearance.start(kFanA, kFanAt, kFanB, kFanBt);
+    const Eigen::Matrix3d half_turn = Eigen::AngleAxisd(M_PI, Vec3(0, 1, 1).normalized()).toRotationMatrix();
+    const Positions a = turned(kFanAt, half_turn, Vec3::Zero()), b = turned(kFanBt, half_turn, Vec3::Zero());
+    EXPECT_TRUE(clearance.holds_over(kFanA, a, a, kFanB, b, b, reach_of(0.001)));
+    // B's free corner (-1, 0, 0) swung onto A's edge from 0 to (1, 0, 0).
+    const Positions folded{Vec3(-0.7, 0.7, 0), Vec3(0, 0, 0), Vec3(0.5, 0, 0)};
+    EXPECT_FALSE(clearance.holds_over(kFanA, kFanAt, kFanAt, kFanB, folded, folded, reach_of(0.001)));
+}
+
+TEST(SharedVertexClearance, FoldingOneTriangleOntoTheOtherEndsIt) {
+    // B turns about the shared edge, or about the shared vertex alone, until
+    // it lies on A: before it gets there, the certificate must have stopped
+    // clearing.
     const double thickness = 0.01;
     CCDSettings settings;
     settings.thickness = thickness;
-    SharedVertexClearance clearance;
-    clearance.start(ids_a, a, ids_b, folded(0.0), thickness, settings.tolerance, kMagnitude);
-    bool ended = false;
-    const int steps = 64;
-    for (int step = 1; step <= steps && !ended; ++step) {
-        const double before = M_PI * (step - 1) / steps, after = M_PI * step / steps;
-        const bool hit = triangle_pair_ccd({ids_a, a, a}, {ids_b, folded(before), folded(after)}, true, settings).hit;
-        ended = !clearance.holds_at(a, folded(after));
-        EXPECT_FALSE(!ended && hit) << "step " << step;
+    for (const bool shares_edge : {true, false}) {
+        const Triangle ids_a{0, 1, 2};
+        const Triangle ids_b = shares_edge ? Triangle{0, 1, 3} : Triangle{0, 4, 3};
+        const Positions a{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1, 0)};
+        const auto folded = [&](double angle) {
+            const Vec3 free(0.5, -std::cos(angle), std::sin(angle));
+            // Sharing only vertex 0, B's second corner turns with its third.
+            return Positions{Vec3(0, 0, 0), shares_edge ? Vec3(1, 0, 0) : Vec3(0.8, -0.6 * std::cos(angle), 0.6 * std::sin(angle)),
+                             free};
+        };
+        SharedVertexClearance clearance;
+        clearance.start(ids_a, a, ids_b, folded(0.0));
+        bool ended = false;
+        const int steps = 64;
+        for (int step = 1; step <= steps && !ended; ++step) {
+            const double before = M_PI * (step - 1) / steps, after = M_PI * step / steps;
+            const bool hit = triangle_pair_ccd({ids_a, a, a}, {ids_b, folded(before), folded(after)}, true, settings).hit;
+            ended = !clearance.holds_over(ids_a, a, a, ids_b, folded(before), folded(after),
+                                          reach_of(thickness, settings.tolerance));
+            EXPECT_FALSE(!ended && hit) << "step " << step << (shares_edge ? " sharing an edge" : " sharing a vertex");
+        }
+        EXPECT_TRUE(ended) << (shares_edge ? "sharing an edge" : "sharing a vertex");
     }
-    EXPECT_TRUE(ended);
 }
 
 TEST(SharedVertexClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOn) {
     // Random vertex-sharing pairs (one shared vertex or a shared edge) whose
-    // free vertices wander over several steps, some folding into contact.
+    // free vertices wander over several steps, some folding into contact,
+    // while the whole pair drifts and, in every other trial, turns by up to
+    // a fifth of a radian a step (the plane proof's case).
     SharedVertexClearance clearance;
     Vec3 drift;
+    Eigen::Matrix3d turn;
     bool edge = false;
-    const auto start = [&](trials::TrialRandom& random, const CCDSettings& settings, int trial) {
+    const auto start = [&](trials::TrialRandom& random, const CCDSettings&, int trial) {
         edge = trial % 2 == 0;
         const Positions a{Vec3(0, 0, 0), random.point(1.0), random.point(1.0)};
         const trials::TrialPair pair{{0, 1, 2}, edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3}, a,
                                       {edge ? a[1] : random.point(1.0), a[0], random.point(1.0)}};
-        clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b, settings.thickness, settings.tolerance, kMagnitude);
+        clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b);
         drift = random.point(0.1);
+        const Vec3 axis = random.point(1.0);
+        const double angle = trial % 4 < 2 ? 0.0 : 0.2 * random.unit();
+        turn = axis.norm() > 0.0 ? Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix()
+                                 : Eigen::Matrix3d::Identity();
         return pair;
     };
     const auto move = [&](trials::TrialRandom& random, const trials::TrialPair& pair) {
-        Positions a1 = shifted(pair.a, drift);
+        const Vec3 centre = pair.a[0];
+        Positions a1 = shifted(turned(pair.a, turn, centre), drift);
         a1[1] += random.point(0.03);
         a1[2] += random.point(0.03);
-        const Positions b1{edge ? a1[1] : pair.b[0] + drift + random.point(0.03), a1[0], pair.b[2] + drift + random.point(0.03)};
+        const Positions b_turned = shifted(turned(pair.b, turn, centre), drift);
+        const Positions b1{edge ? a1[1] : b_turned[0] + random.point(0.03), a1[0], b_turned[2] + random.point(0.03)};
         return trials::TrialPair{pair.ids_a, pair.ids_b, a1, b1};
     };
-    const auto holds = [&](const trials::TrialPair& pair) { return clearance.holds_at(pair.a, pair.b); };
-    const trials::ClearanceTrialCounts counts = trials::run_clearance_trials(20261123, true, start, move, holds);
+    CCDSettings settings;
+    const auto holds = [&](const trials::TrialPair& before, const trials::TrialPair& next) {
+        // The trials' thicknesses in turn: the reach follows the one being run.
+        return clearance.holds_over(before.ids_a, before.a, next.a, before.ids_b, before.b, next.b,
+                                    reach_of(settings.thickness, settings.tolerance));
+    };
+    const auto start_at = [&](trials::TrialRandom& random, const CCDSettings& run, int trial) {
+        settings = run;
+        return start(random, run, trial);
+    };
+    const trials::ClearanceTrialCounts counts = trials::run_clearance_trials(20261123, true, start_at, move, holds);
     EXPECT_GT(counts.cleared, 20000);
     EXPECT_GT(counts.hits, 250);
+}
+
+TEST(SharedVertexClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOnWhenNearlyFolded) {
+    // Pairs folded almost flat onto each other (hinged on an edge, or fanned
+    // about a vertex with B turned over A), their free vertices a few
+    // thicknesses off the other triangle and wandering by as much a step:
+    // near misses and contacts within every proof's reach of each other.
+    SharedVertexClearance clearance;
+    bool edge = false;
+    CCDSettings settings;
+    const auto start = [&](trials::TrialRandom& random, const CCDSettings& run, int trial) {
+        settings = run;
+        edge = trial % 2 == 0;
+        const double gap = 0.02 + 0.1 * std::abs(random.unit());
+        const Positions a{Vec3(0, 0, 0), Vec3(1, 0.2 * random.unit(), 0), Vec3(0.5 + 0.3 * random.unit(), 1, 0)};
+        const Vec3 free_b(0.5 + 0.3 * random.unit(), 0.3 + 0.6 * std::abs(random.unit()), gap);
+        const trials::TrialPair pair{{0, 1, 2}, edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3}, a,
+                                      {edge ? a[1] : Vec3(0.9, 0.6 * random.unit(), gap), a[0], free_b}};
+        clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b);
+        return pair;
+    };
+    const auto move = [&](trials::TrialRandom& random, const trials::TrialPair& pair) {
+        Positions a1 = pair.a;
+        a1[1] += random.point(0.02);
+        a1[2] += random.point(0.02);
+        const Positions b1{edge ? a1[1] : pair.b[0] + random.point(0.02), a1[0], pair.b[2] + random.point(0.02)};
+        return trials::TrialPair{pair.ids_a, pair.ids_b, a1, b1};
+    };
+    const auto holds = [&](const trials::TrialPair& before, const trials::TrialPair& next) {
+        return clearance.holds_over(before.ids_a, before.a, next.a, before.ids_b, before.b, next.b,
+                                    reach_of(settings.thickness, settings.tolerance));
+    };
+    const trials::ClearanceTrialCounts counts = trials::run_clearance_trials(20261127, true, start, move, holds);
+    EXPECT_GT(counts.cleared, 5000);
+    EXPECT_GT(counts.hits, 1000) << counts.cleared;
 }
