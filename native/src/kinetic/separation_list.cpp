@@ -512,15 +512,32 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     const std::vector<Triangle>& triangles = scene_.meshes[list.mesh_a].triangles;
     const Triangle& ids_a = triangles[pair.tri_a];
     const Triangle& ids_b = triangles[pair.tri_b];
+    const double contact_distance = margin_of(list);
+    const double tolerance = tester_.settings().tolerance;
+    const auto record = [&](bool cleared) {
+        if (cleared) {
+            pair.fresh = false;
+            pair.backoff = 1;
+            ++counters_.cleared_steps;
+        } else {
+            pair.certified = false;
+            pair.wait = pair.backoff;
+            pair.backoff = static_cast<int8_t>(std::min(2 * pair.backoff, CLEARANCE_MAX_BACKOFF_STEPS));
+        }
+        return cleared;
+    };
+    // Most steps are cleared by the proof that held at the last one's end, asked at this one's end alone.
+    if (pair.certified && !pair.static_pending) {
+        const std::array<Vec3, 3> a1 = triangle_corners(tree.end_points(), ids_a);
+        const std::array<Vec3, 3> b1 = triangle_corners(tree.end_points(), ids_b);
+        if (pair.clearance.holds_at_end(a1, b1)) return record(true);
+    }
     const std::array<Vec3, 3> a0 = triangle_corners(tree.begin_points(), ids_a);
     const std::array<Vec3, 3> b0 = triangle_corners(tree.begin_points(), ids_b);
-    SharedVertexReach reach;
-    reach.contact_distance = margin_of(list);
-    reach.tolerance = tester_.settings().tolerance;
-    reach.magnitude = std::max(scene_.triangle_magnitude(list.mesh_a, pair.tri_a),
-                               scene_.triangle_magnitude(list.mesh_a, pair.tri_b));
     const auto start_certificate = [&]() {
-        pair.clearance.start(ids_a, a0, ids_b, b0);
+        pair.clearance.start(ids_a, a0, ids_b, b0,
+                             std::max(scene_.triangle_magnitude(list.mesh_a, pair.tri_a),
+                                      scene_.triangle_magnitude(list.mesh_a, pair.tri_b)));
         pair.certified = pair.fresh = true;
     };
     // The schedule of TrianglePairTester::test_steps: a certificate that fails
@@ -531,7 +548,8 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
         // The window's first step: a certificate that holds at its begin
         // proves what the static test would find (no contact there).
         pair.static_pending = false;
-        const bool clear = pair.certified && pair.clearance.holds_over(ids_a, a0, a0, ids_b, b0, b0, reach) &&
+        const bool clear = pair.certified &&
+                           pair.clearance.holds_over(ids_a, a0, a0, ids_b, b0, b0, contact_distance, tolerance) &&
                            !edge_pierces_triangle(ids_a, a0, ids_b, b0) && !edge_pierces_triangle(ids_b, b0, ids_a, a0);
         if (!clear && tester_.test_static(list.mesh_a, pair.tri_a, list.mesh_b, pair.tri_b, t_begin_)) {
             pair.static_hit = true;
@@ -544,21 +562,12 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     }
     const std::array<Vec3, 3> a1 = triangle_corners(tree.end_points(), ids_a);
     const std::array<Vec3, 3> b1 = triangle_corners(tree.end_points(), ids_b);
-    bool cleared = pair.clearance.holds_over(ids_a, a0, a1, ids_b, b0, b1, reach);
+    bool cleared = pair.clearance.holds_over(ids_a, a0, a1, ids_b, b0, b1, contact_distance, tolerance);
     if (!cleared && !pair.fresh) {
         start_certificate();
-        cleared = pair.clearance.holds_over(ids_a, a0, a1, ids_b, b0, b1, reach);
+        cleared = pair.clearance.holds_over(ids_a, a0, a1, ids_b, b0, b1, contact_distance, tolerance);
     }
-    if (cleared) {
-        pair.fresh = false;
-        pair.backoff = 1;
-        ++counters_.cleared_steps;
-    } else {
-        pair.certified = false;
-        pair.wait = pair.backoff;
-        pair.backoff = static_cast<int8_t>(std::min(2 * pair.backoff, CLEARANCE_MAX_BACKOFF_STEPS));
-    }
-    return cleared;
+    return record(cleared);
 }
 
 void KineticSeparationLists::step_shared_vertex_pairs() {

@@ -23,6 +23,13 @@ double swept_diagonal(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& 
     return (hi - lo).norm();
 }
 
+/// The float nearest above `value` (NaN stays NaN).
+float rounded_up(double value) {
+    float rounded = static_cast<float>(value);
+    if (static_cast<double>(rounded) < value) rounded = std::nextafter(rounded, INFINITY);
+    return rounded;
+}
+
 bool holds_vertex(const Triangle& ids, int32_t v) { return ids[0] == v || ids[1] == v || ids[2] == v; }
 
 /// Every point of `y` lies more than `reach` beyond every point of `x` along
@@ -53,8 +60,9 @@ bool centroids_apart(const Vec3* x0, const Vec3* x1, int count_x, const Vec3* y0
 } // namespace
 
 void SharedVertexClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
-                                  const std::array<Vec3, 3>& b) {
+                                  const std::array<Vec3, 3>& b, double magnitude) {
     drift_limit_ = -1.0;
+    drift_held_ = plane_held_ = last_fell_short_ = false;
     normal_[0] = normal_[1] = normal_[2] = 0.0f;
     plane_possible_ = false;
     shared_a_ = shared_b_ = -1;
@@ -71,45 +79,70 @@ void SharedVertexClearance::start(const Triangle& ids_a, const std::array<Vec3, 
     }
     if (shared_a_ < 0) return;  // not a vertex-sharing pair: the proof never holds
     plane_possible_ = shared == 1;
-    const Vec3& reference = a[shared_a_];
-    offsets_ = {a[(shared_a_ + 1) % 3] - reference, a[(shared_a_ + 2) % 3] - reference,
-                b[(shared_b_ + 1) % 3] - reference, b[(shared_b_ + 2) % 3] - reference};
+    magnitude_ = rounded_up(magnitude);
+    set_drift_reference(a, b);
+}
+
+void SharedVertexClearance::set_drift_reference(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+    const FreeCorners corners = free_corners(a, b);
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 3; ++k) offsets_[i][k] = static_cast<float>(corners.offset[i][k]);
     drift_limit_ = std::numeric_limits<double>::quiet_NaN();
+    drift_held_ = false;
+    drift_fresh_ = true;
 }
 
-bool SharedVertexClearance::plane_holds(const Vec3& normal, const std::array<Vec3, 3>& a0,
-                                        const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
-                                        const std::array<Vec3, 3>& b1, double reach) const {
-    // Heights are normal . (p - shared vertex); the distance is the height over |normal|.
-    const double least = reach * normal.norm();
-    if (!(least > 0.0) || !std::isfinite(least)) return false;
-    for (int end = 0; end < 2; ++end) {
-        const std::array<Vec3, 3>& a = end == 0 ? a0 : a1;
-        const std::array<Vec3, 3>& b = end == 0 ? b0 : b1;
-        const Vec3& shared = a[shared_a_];
-        // Negated comparisons: a NaN never holds.
-        if (!(normal.dot(a[(shared_a_ + 1) % 3] - shared) < -least) ||
-            !(normal.dot(a[(shared_a_ + 2) % 3] - shared) < -least) ||
-            !(normal.dot(b[(shared_b_ + 1) % 3] - shared) > least) ||
-            !(normal.dot(b[(shared_b_ + 2) % 3] - shared) > least))
-            return false;
-    }
-    return true;
+SharedVertexClearance::FreeCorners SharedVertexClearance::free_corners(const std::array<Vec3, 3>& a,
+                                                                       const std::array<Vec3, 3>& b) const {
+    const Vec3& shared = a[shared_a_];
+    FreeCorners corners;
+    corners.offset[0] = a[(shared_a_ + 1) % 3] - shared;
+    corners.offset[1] = a[(shared_a_ + 2) % 3] - shared;
+    corners.offset[2] = b[(shared_b_ + 1) % 3] - shared;
+    corners.offset[3] = b[(shared_b_ + 2) % 3] - shared;
+    double squared = 0.0;
+    for (const Vec3& offset : corners.offset) squared = std::max(squared, offset.squaredNorm());
+    corners.radius = std::sqrt(squared);
+    return corners;
 }
 
-Vec3 SharedVertexClearance::fitted_normal(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
-                                          const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1) const {
+double SharedVertexClearance::plane_margin(const Vec3& normal, const FreeCorners& corners) {
+    // Negated comparisons: a NaN never counts.
+    double margin = -normal.dot(corners.offset[0]);
+    for (const double height : {-normal.dot(corners.offset[1]), normal.dot(corners.offset[2]),
+                                normal.dot(corners.offset[3])})
+        margin = height < margin || std::isnan(height) ? height : margin;
+    return margin;
+}
+
+double SharedVertexClearance::plane_reach(const Vec3& normal, double radius, double contact_distance,
+                                          double tolerance) const {
+    // Heights are normal . offset: the reach is scaled by |normal| instead of dividing each height by it.
+    return clearance_reach(contact_distance, clearance_size_fraction(tolerance),
+                           SHARED_VERTEX_BOX_DIAGONAL_PER_RADIUS * radius, 0.0, magnitude_) *
+           normal.norm();
+}
+
+float SharedVertexClearance::plane_least(const Vec3& normal, float radius, double contact_distance,
+                                         double tolerance) const {
+    return rounded_up(plane_reach(normal, radius, contact_distance, tolerance));
+}
+
+bool SharedVertexClearance::plane_holds(const Vec3& normal, const FreeCorners& begin, const FreeCorners& end,
+                                        float least) {
+    if (!(least > 0.0f) || !std::isfinite(least)) return false;
+    return plane_margin(normal, begin) > least && plane_margin(normal, end) > least;
+}
+
+Vec3 SharedVertexClearance::fitted_normal(const FreeCorners& begin, const FreeCorners& end) {
     // Across the two triangles' corners at the shared vertex, halfway through
     // the step: from the mean direction of A's edges out of it to B's.
     const auto direction = [](const Vec3& v) {
         const double length = v.norm();
         return length > 0.0 ? Vec3(v / length) : Vec3(Vec3::Zero());
     };
-    const auto middle = [&](const std::array<Vec3, 3>& t0, const std::array<Vec3, 3>& t1, int shared, int i) {
-        return direction((t0[(shared + i) % 3] - t0[shared]) + (t1[(shared + i) % 3] - t1[shared]));
-    };
-    return direction(middle(b0, b1, shared_b_, 1) + middle(b0, b1, shared_b_, 2)) -
-           direction(middle(a0, a1, shared_a_, 1) + middle(a0, a1, shared_a_, 2));
+    const auto middle = [&](int i) { return direction(begin.offset[i] + end.offset[i]); };
+    return direction(middle(2) + middle(3)) - direction(middle(0) + middle(1));
 }
 
 bool SharedVertexClearance::primitives_apart(const Triangle& ids_a, const std::array<Vec3, 3>& a0,
@@ -141,52 +174,122 @@ bool SharedVertexClearance::primitives_apart(const Triangle& ids_a, const std::a
 double SharedVertexClearance::drift(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const {
     // The shared vertex is one point of both triangles: its position in b is the same as in a.
     const Vec3& reference = a[shared_a_];
-    const double squared_a = std::max((a[(shared_a_ + 1) % 3] - reference - offsets_[0]).squaredNorm(),
-                                      (a[(shared_a_ + 2) % 3] - reference - offsets_[1]).squaredNorm());
-    const double squared_b = std::max((b[(shared_b_ + 1) % 3] - reference - offsets_[2]).squaredNorm(),
-                                      (b[(shared_b_ + 2) % 3] - reference - offsets_[3]).squaredNorm());
+    const double squared_a = std::max((a[(shared_a_ + 1) % 3] - reference - offset(0)).squaredNorm(),
+                                      (a[(shared_a_ + 2) % 3] - reference - offset(1)).squaredNorm());
+    const double squared_b = std::max((b[(shared_b_ + 1) % 3] - reference - offset(2)).squaredNorm(),
+                                      (b[(shared_b_ + 2) % 3] - reference - offset(3)).squaredNorm());
     return std::sqrt(squared_a) + std::sqrt(squared_b);
 }
 
 void SharedVertexClearance::measure_drift_limit(const Triangle& ids_a, const Triangle& ids_b,
-                                                const SharedVertexReach& reach) {
-    // The start positions less the shared vertex's: distances do not change with a translation.
+                                                double contact_distance, double tolerance) {
+    // The reference positions, the shared vertex at the origin: distances do not change with a translation.
     std::array<Vec3, 3> a, b;
     a[shared_a_] = Vec3::Zero();
-    a[(shared_a_ + 1) % 3] = offsets_[0];
-    a[(shared_a_ + 2) % 3] = offsets_[1];
+    a[(shared_a_ + 1) % 3] = offset(0);
+    a[(shared_a_ + 2) % 3] = offset(1);
     b[shared_b_] = Vec3::Zero();
-    b[(shared_b_ + 1) % 3] = offsets_[2];
-    b[(shared_b_ + 2) % 3] = offsets_[3];
+    b[(shared_b_ + 1) % 3] = offset(2);
+    b[(shared_b_ + 2) % 3] = offset(3);
     // PairClearance's drift proof holds while distance - drift > reach(drift),
     // reach growing by the size fraction times the drift growth: solved for the drift.
-    const double size_fraction = clearance_size_fraction(reach.tolerance);
-    const double at_start =
-        clearance_reach(reach.contact_distance, size_fraction, pair_box_diagonal(a, b), 0.0, reach.magnitude);
+    const double size_fraction = clearance_size_fraction(tolerance);
+    const double at_start = clearance_reach(contact_distance, size_fraction, pair_box_diagonal(a, b), 0.0, magnitude_);
     const double distance = tested_primitive_distance(ids_a, a, ids_b, b, true);
     drift_limit_ = (distance - at_start) / (1.0 + PAIR_CLEARANCE_DRIFT_GROWTH * size_fraction);
+}
+
+bool SharedVertexClearance::drift_proof(const Triangle& ids_a, const std::array<Vec3, 3>& a0,
+                                        const std::array<Vec3, 3>& a1, const Triangle& ids_b,
+                                        const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1,
+                                        double contact_distance, double tolerance) {
+    if (std::isnan(drift_limit_)) measure_drift_limit(ids_a, ids_b, contact_distance, tolerance);
+    drift_held_ = drift_limit_ > 0.0 && drift(a1, b1) < drift_limit_;
+    return drift_held_ && drift(a0, b0) < drift_limit_;
+}
+
+bool SharedVertexClearance::holds_at_end(const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b1) {
+    if (drift_held_) {
+        if (drift(a1, b1) < drift_limit_) return true;
+        drift_held_ = false;
+    }
+    if (plane_held_) {
+        plane_held_ = false;
+        // The begin cleared plane_least_, the reach within proven_radius_; the end must too, within it.
+        const Vec3& shared = a1[shared_a_];
+        FreeCorners end;
+        end.offset[0] = a1[(shared_a_ + 1) % 3] - shared;
+        end.offset[1] = a1[(shared_a_ + 2) % 3] - shared;
+        end.offset[2] = b1[(shared_b_ + 1) % 3] - shared;
+        end.offset[3] = b1[(shared_b_ + 2) % 3] - shared;
+        double squared = 0.0;
+        for (const Vec3& offset : end.offset) squared = std::max(squared, offset.squaredNorm());
+        // Exact: a product of two floats fits a double.
+        const double radius = proven_radius_;
+        if (squared <= radius * radius) {
+            if (plane_margin(last_normal(), end) > plane_least_) {
+                plane_held_ = true;
+                return true;
+            }
+            last_fell_short_ = true;
+        }
+    }
+    return false;
 }
 
 bool SharedVertexClearance::holds_over(const Triangle& ids_a, const std::array<Vec3, 3>& a0,
                                        const std::array<Vec3, 3>& a1, const Triangle& ids_b,
                                        const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1,
-                                       const SharedVertexReach& reach) {
+                                       double contact_distance, double tolerance) {
     if (shared_a_ < 0) return false;
-    const double step_reach = clearance_reach(reach.contact_distance, clearance_size_fraction(reach.tolerance),
-                                              swept_diagonal(a0, a1, b0, b1), 0.0, reach.magnitude);
-    if (plane_possible_) {
-        const Vec3 last(normal_[0], normal_[1], normal_[2]);
-        if (plane_holds(last, a0, a1, b0, b1, step_reach)) return true;
-        const Vec3 fitted = fitted_normal(a0, a1, b0, b1).cast<float>().cast<double>();
-        if (plane_holds(fitted, a0, a1, b0, b1, step_reach)) {
-            for (int k = 0; k < 3; ++k) normal_[k] = static_cast<float>(fitted[k]);
+    if (holds_at_end(a1, b1)) return true;
+    const bool drift_fresh = drift_fresh_;
+    drift_fresh_ = false;
+    if (!plane_possible_) {
+        // A hinged pair: the drift proof first, as cheap as it gets on a cloth at rest, then from this
+        // step's begin (a cloth turning a little at a time keeps it for the steps that follow).
+        if (drift_proof(ids_a, a0, a1, ids_b, b0, b1, contact_distance, tolerance)) return true;
+        if (!drift_fresh) {
+            set_drift_reference(a0, b0);
+            if (drift_proof(ids_a, a0, a1, ids_b, b0, b1, contact_distance, tolerance)) return true;
+        }
+        return primitives_apart(ids_a, a0, a1, ids_b, b0, b1, swept_reach(a0, a1, b0, b1, contact_distance, tolerance));
+    }
+    const FreeCorners begin = free_corners(a0, b0), end = free_corners(a1, b1);
+    // Proven with headroom, a plane stays on the end-only path while the pair stretches a little; the
+    // radius and the reach are rounded up to single precision as they are kept.
+    const float radius = rounded_up(SHARED_VERTEX_RADIUS_HEADROOM * std::max(begin.radius, end.radius));
+    // The last normal, unless its end fell short; then one fitted to the step.
+    const bool ask_last = !last_fell_short_;
+    last_fell_short_ = false;
+    const Vec3 normals[2] = {last_normal(), fitted_normal(begin, end).cast<float>().cast<double>()};
+    for (int i = ask_last ? 0 : 1; i < 2; ++i) {
+        const float least = plane_least(normals[i], radius, contact_distance, tolerance);
+        if (plane_holds(normals[i], begin, end, least)) {
+            keep_plane(normals[i], radius, least);
             return true;
         }
     }
-    if (primitives_apart(ids_a, a0, a1, ids_b, b0, b1, step_reach)) return true;
-    if (std::isnan(drift_limit_)) measure_drift_limit(ids_a, ids_b, reach);
-    if (!(drift_limit_ > 0.0)) return false;
-    return drift(a0, b0) < drift_limit_ && drift(a1, b1) < drift_limit_;
+    if (primitives_apart(ids_a, a0, a1, ids_b, b0, b1, swept_reach(a0, a1, b0, b1, contact_distance, tolerance)))
+        return true;
+    return drift_proof(ids_a, a0, a1, ids_b, b0, b1, contact_distance, tolerance);
+}
+
+Vec3 SharedVertexClearance::last_normal() const { return Vec3(normal_[0], normal_[1], normal_[2]); }
+
+void SharedVertexClearance::keep_plane(const Vec3& normal, float radius, float least) {
+    for (int k = 0; k < 3; ++k) normal_[k] = static_cast<float>(normal[k]);
+    // Only a normal exactly as kept may be asked at the end alone.
+    plane_held_ = last_normal() == normal;
+    proven_radius_ = radius;
+    plane_least_ = least;
+}
+
+double SharedVertexClearance::swept_reach(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
+                                          const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1,
+                                          double contact_distance, double tolerance) const {
+    return clearance_reach(contact_distance, clearance_size_fraction(tolerance), swept_diagonal(a0, a1, b0, b1), 0.0,
+                           magnitude_);
 }
 
 } // namespace usdksl

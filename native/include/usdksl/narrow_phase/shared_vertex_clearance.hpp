@@ -12,81 +12,132 @@
 
 namespace usdksl {
 
-/// @brief What the reach of a vertex-sharing pair depends on besides its
-///        positions (PairClearance's reach, PAIR_CLEARANCE_* constants).
-struct SharedVertexReach {
-    /// @brief Contact distance of the pair (scene units).
-    double contact_distance = 0.0;
-    /// @brief CCD time tolerance (fraction of a step).
-    double tolerance = 0.0;
-    /// @brief Scene units that no absolute coordinate of the six vertices ever exceeds.
-    double magnitude = 0.0;
-};
+/// @brief Largest box diagonal of points within one distance of a point, in
+///        multiples of that distance: 2 sqrt(3), rounded up.
+constexpr double SHARED_VERTEX_BOX_DIAGONAL_PER_RADIUS = 3.5;
+
+/// @brief A plane found for a step is proven for the pair within this many
+///        times its distance from the shared vertex, so that the next steps
+///        ask it at their end alone while the pair stretches no further (a
+///        quarter more of the reach's size term, 1/1024 of the pair's size).
+constexpr double SHARED_VERTEX_RADIUS_HEADROOM = 1.25;
 
 /// @brief Proves, one step at a time, that no primitive pair of two triangles
 ///        of one mesh that share a vertex (only pairs sharing no vertex are
-///        tested) comes within reach during the step, by either of two proofs:
+///        tested) comes within reach during the step (the reach of
+///        PairClearance, PAIR_CLEARANCE_* constants), by one of three proofs,
+///        each asked at both ends of the step:
 ///
 ///        - the plane proof, for a pair sharing exactly one vertex: a plane
 ///          through the shared vertex with the other two vertices of A
-///          beyond the reach on one side and those of B on the other, at
-///          both ends of the step. Every tested primitive holds a vertex off
-///          the plane by that much, with the other primitive on the other
-///          side, and heights above a plane through the moving shared vertex
-///          are linear over a linear step, so it holds throughout. It turns
-///          with the pair: the last plane is tried first, then one fitted to
-///          the step.
+///          beyond the reach on one side and those of B on the other. Every
+///          tested primitive holds a vertex off the plane by that much, with
+///          the other primitive on the other side, and heights above a plane
+///          through the moving shared vertex are linear over a linear step,
+///          so it holds throughout. It turns with the pair: the last plane is
+///          tried first, then one fitted to the step;
 ///        - the centroid proof, for any vertex-sharing pair (two triangles
-///          hinged on a shared edge have no such plane): each tested
-///          primitive pair apart beyond the reach along the direction between
-///          their centroids, at both ends of the step;
+///          hinged on a shared edge lie on both sides of every plane through
+///          the edge): each tested primitive pair apart beyond the reach along
+///          the direction between their centroids;
 ///        - the drift proof of PairClearance, with the shared vertex as the
-///          reference (it drifts from neither triangle) and the distance at
-///          the certificate's start measured only when the other proofs
-///          first fail.
+///          reference (it drifts from neither triangle), from the start or,
+///          for a hinged pair, from the step where it last ran out; the
+///          distance at the reference is measured only when first needed.
 ///
-///        A cloth turning as a whole keeps the plane and centroid proofs
-///        where the drift proof runs out after a few steps.
+///        A cloth turning as a whole keeps the plane and centroid proofs where
+///        the drift proof runs out after a few steps; a cloth at rest keeps
+///        whichever held last, asked at each step's end alone.
 class SharedVertexClearance {
 public:
     /// @brief Starts at the positions of both triangles at one instant. The
-    ///        triangles must share a vertex.
+    ///        triangles must share a vertex. `magnitude`: scene units that no
+    ///        absolute coordinate of the six vertices ever exceeds.
     void start(const Triangle& ids_a, const std::array<Vec3, 3>& a, const Triangle& ids_b,
-               const std::array<Vec3, 3>& b);
+               const std::array<Vec3, 3>& b, double magnitude);
 
     /// @brief True when no tested primitive pair comes within reach on the
-    ///        linear step from (a0, b0) to (a1, b1): each proof is asked at
-    ///        both ends of the step, and holds between them (heights along a
-    ///        plane are linear over the step, the drift is convex). Steps may
-    ///        be asked in any order. `ids_a`, `ids_b`: as given to start().
+    ///        linear step from (a0, b0) to (a1, b1): a proof holds at both
+    ///        ends of the step, and so between them (heights along a plane
+    ///        are linear over the step, the drift is convex). Ask it for
+    ///        consecutive steps from the start, each beginning where the last
+    ///        ended: a proof that held at the last one's end is asked at this
+    ///        one's end alone. `ids_a`, `ids_b`: as given to start();
+    ///        `contact_distance`: scene units; `tolerance`: the CCD tolerance
+    ///        (fraction of a step).
     bool holds_over(const Triangle& ids_a, const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
                     const Triangle& ids_b, const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1,
-                    const SharedVertexReach& reach);
+                    double contact_distance, double tolerance);
+
+    /// @brief holds_over() as far as the step's end alone answers it: the
+    ///        proof that held at the last step's end, asked at this one's.
+    ///        False says nothing; holds_over() then asks every proof (the
+    ///        caller needs the begin positions only then).
+    bool holds_at_end(const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b1);
 
 private:
-    bool plane_holds(const Vec3& normal, const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
-                     const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1, double reach) const;
-    Vec3 fitted_normal(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
-                       const std::array<Vec3, 3>& b1) const;
+    /// The four vertices other than the shared one (A's two, then B's),
+    /// relative to it, at one instant, and the largest of their distances
+    /// from it (scene units).
+    struct FreeCorners {
+        Vec3 offset[4];
+        double radius;
+    };
+    FreeCorners free_corners(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const;
+    /// Least height of B's free corners and depth of A's along `normal`.
+    static double plane_margin(const Vec3& normal, const FreeCorners& corners);
+    /// The reach along a plane, times |normal|, for a pair within `radius` of its shared vertex.
+    double plane_reach(const Vec3& normal, double radius, double contact_distance, double tolerance) const;
+    /// plane_reach() rounded up to single precision, as kept.
+    float plane_least(const Vec3& normal, float radius, double contact_distance, double tolerance) const;
+    /// Both ends' margins along `normal` beyond `least` (a plane_least()).
+    static bool plane_holds(const Vec3& normal, const FreeCorners& begin, const FreeCorners& end, float least);
+    static Vec3 fitted_normal(const FreeCorners& begin, const FreeCorners& end);
+    Vec3 last_normal() const;
+    void keep_plane(const Vec3& normal, float radius, float least);
     static bool primitives_apart(const Triangle& ids_a, const std::array<Vec3, 3>& a0,
                                  const std::array<Vec3, 3>& a1, const Triangle& ids_b,
                                  const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1, double reach);
+    double swept_reach(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
+                       const std::array<Vec3, 3>& b1, double contact_distance, double tolerance) const;
+    bool drift_proof(const Triangle& ids_a, const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
+                     const Triangle& ids_b, const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1,
+                     double contact_distance, double tolerance);
+    /// The drift proof from the pair at a, b.
+    void set_drift_reference(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
+    Vec3 offset(int i) const { return Vec3(offsets_[i][0], offsets_[i][1], offsets_[i][2]); }
     double drift(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const;
-    void measure_drift_limit(const Triangle& ids_a, const Triangle& ids_b, const SharedVertexReach& reach);
+    void measure_drift_limit(const Triangle& ids_a, const Triangle& ids_b, double contact_distance, double tolerance);
 
-    /// Positions at the start of A's two vertices after the shared one, then
-    /// B's, relative to the shared vertex.
-    std::array<Vec3, 4> offsets_;
+    /// Positions of A's two vertices after the shared one, then B's, relative
+    /// to the shared vertex, at the start, in single precision: the drift
+    /// proof's reference, whose distance it measures (any reference serves).
+    float offsets_[4][3];
     /// Largest drift (scene units) at which the drift proof holds; negative
     /// when it never does, NaN until measured.
     double drift_limit_ = -1.0;
     /// The last plane that held, not unit (its length is divided out); zero
     /// when there is none.
     float normal_[3] = {0.0f, 0.0f, 0.0f};
+    /// The start's magnitude, rounded up to single precision (scene units).
+    float magnitude_ = 0.0f;
+    /// While plane_held_: the distance from the shared vertex (scene units)
+    /// within which the last step's end cleared the reach, rounded up, and
+    /// that reach times |normal_|, rounded up: the end cleared at least it.
+    float proven_radius_ = 0.0f;
+    float plane_least_ = 0.0f;
     int8_t shared_a_ = 0, shared_b_ = 0;  // index of the shared vertex in A and in B
     /// The triangles share exactly one vertex (a shared edge lies in every
     /// plane through its ends: no plane proof).
     bool plane_possible_ = false;
+    /// The drift proof held at the end of the last step asked.
+    bool drift_held_ = false;
+    /// The plane normal_ held at the end of the last step asked.
+    bool plane_held_ = false;
+    /// holds_at_end() found normal_ short of the reach at this step's end.
+    bool last_fell_short_ = false;
+    /// The drift proof's reference is the begin of the step asked next.
+    bool drift_fresh_ = false;
 };
 
 } // namespace usdksl
