@@ -381,6 +381,8 @@ bool KineticSeparationLists::hand_over_if_sharing_vertex(int32_t list_id, int32_
     pair.list = list_id;
     pair.tri_a = tri_a;
     pair.tri_b = tri_b;
+    pair.leaf_a = a;
+    pair.leaf_b = b;
     pair.backoff = 1;
     pair.static_pending = initializing_;  // its static test comes with its first step
     shared_vertex_pairs_.push_back(pair);
@@ -579,7 +581,9 @@ void KineticSeparationLists::step_shared_vertex_pairs() {
             // The certificate follows whole steps; a narrow-phase run ends on
             // a breakpoint of the pair, which is a step's end too.
             if (pair.tested_until <= step_begin_ && clears_step(pair)) {
-                pair.tested_until = step_end_;
+                const size_t through = cleared_ahead(pair);
+                counters_.cleared_steps += static_cast<int64_t>(through) - (step_index_ + 1);
+                pair.tested_until = times_[through];
             } else if (pair.static_hit) {
                 hit = true;
             } else {
@@ -597,6 +601,24 @@ void KineticSeparationLists::step_shared_vertex_pairs() {
         ++kept;
     }
     shared_vertex_pairs_.resize(kept);
+}
+
+size_t KineticSeparationLists::cleared_ahead(const SharedVertexPair& pair) const {
+    const double allowance = pair.clearance.allowance();
+    size_t step = static_cast<size_t>(step_index_) + 1;
+    if (!(allowance > 0.0)) return step;
+    const StepBoxTree& tree = *trees_[lists_[pair.list].mesh_a];
+    // Recorded travel reaches NODE_TRAVEL_AHEAD_STEPS steps on; the last step ends the range.
+    const size_t recorded = std::min(travel_recorded_, times_.size() - 1);
+    double moved = 0.0;
+    for (; step < recorded; ++step) {
+        // Each corner and the shared vertex are under one leaf, whose vertices all move within one
+        // ball during the step: a corner moves relative to the shared vertex by at most its diameter.
+        moved += 2.0 * std::max(static_cast<double>(tree.shift(pair.leaf_a, static_cast<int64_t>(step)).radius),
+                                static_cast<double>(tree.shift(pair.leaf_b, static_cast<int64_t>(step)).radius));
+        if (!(moved < allowance)) break;
+    }
+    return step;
 }
 
 bool KineticSeparationLists::plane_separates(const List& list, int32_t a, int32_t b, const NodePlane* previous,

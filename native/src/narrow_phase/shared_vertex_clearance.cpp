@@ -23,6 +23,14 @@ double swept_diagonal(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& 
     return (hi - lo).norm();
 }
 
+/// The float nearest below `value`, and 0 for a value not above 0 (or NaN).
+float rounded_down(double value) {
+    if (!(value > 0.0)) return 0.0f;
+    float rounded = static_cast<float>(value);
+    if (static_cast<double>(rounded) > value) rounded = std::nextafter(rounded, 0.0f);
+    return rounded;
+}
+
 /// The float nearest above `value` (NaN stays NaN).
 float rounded_up(double value) {
     float rounded = static_cast<float>(value);
@@ -63,6 +71,7 @@ void SharedVertexClearance::start(const Triangle& ids_a, const std::array<Vec3, 
                                   const std::array<Vec3, 3>& b, double magnitude) {
     drift_limit_ = -1.0;
     drift_held_ = plane_held_ = last_fell_short_ = false;
+    allowance_ = 0.0f;
     normal_[0] = normal_[1] = normal_[2] = 0.0f;
     plane_possible_ = false;
     shared_a_ = shared_b_ = -1;
@@ -204,13 +213,35 @@ bool SharedVertexClearance::drift_proof(const Triangle& ids_a, const std::array<
                                         const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1,
                                         double contact_distance, double tolerance) {
     if (std::isnan(drift_limit_)) measure_drift_limit(ids_a, ids_b, contact_distance, tolerance);
-    drift_held_ = drift_limit_ > 0.0 && drift(a1, b1) < drift_limit_;
-    return drift_held_ && drift(a0, b0) < drift_limit_;
+    const double at_end = drift(a1, b1);
+    drift_held_ = drift_limit_ > 0.0 && at_end < drift_limit_;
+    if (!drift_held_ || !(drift(a0, b0) < drift_limit_)) return false;
+    keep_drift_allowance(at_end);
+    return true;
+}
+
+void SharedVertexClearance::keep_drift_allowance(double drift_at_end) {
+    // A corner moving by d relative to the shared vertex moves its triangle's drift by at most d, and
+    // the two triangles' corners may both move.
+    allowance_ = rounded_down(0.5 * (drift_limit_ - drift_at_end));
+}
+
+void SharedVertexClearance::keep_plane_allowance(double margin_at_end, double radius_at_end) {
+    // A corner moving by d relative to the shared vertex moves its height by at most |normal| d and its
+    // distance from the shared vertex by at most d.
+    allowance_ = rounded_down(
+        std::min((margin_at_end - static_cast<double>(plane_least_)) / last_normal().norm(),
+                 static_cast<double>(proven_radius_) - radius_at_end));
 }
 
 bool SharedVertexClearance::holds_at_end(const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b1) {
+    allowance_ = 0.0f;
     if (drift_held_) {
-        if (drift(a1, b1) < drift_limit_) return true;
+        const double at_end = drift(a1, b1);
+        if (at_end < drift_limit_) {
+            keep_drift_allowance(at_end);
+            return true;
+        }
         drift_held_ = false;
     }
     if (plane_held_) {
@@ -227,8 +258,10 @@ bool SharedVertexClearance::holds_at_end(const std::array<Vec3, 3>& a1, const st
         // Exact: a product of two floats fits a double.
         const double radius = proven_radius_;
         if (squared <= radius * radius) {
-            if (plane_margin(last_normal(), end) > plane_least_) {
+            const double margin = plane_margin(last_normal(), end);
+            if (margin > plane_least_) {
                 plane_held_ = true;
+                keep_plane_allowance(margin, std::sqrt(squared));
                 return true;
             }
             last_fell_short_ = true;
@@ -267,6 +300,7 @@ bool SharedVertexClearance::holds_over(const Triangle& ids_a, const std::array<V
         const float least = plane_least(normals[i], radius, contact_distance, tolerance);
         if (plane_holds(normals[i], begin, end, least)) {
             keep_plane(normals[i], radius, least);
+            keep_plane_allowance(plane_margin(normals[i], end), end.radius);
             return true;
         }
     }

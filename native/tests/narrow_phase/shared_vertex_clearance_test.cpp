@@ -197,3 +197,56 @@ TEST(SharedVertexClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOnWhenNea
     EXPECT_GT(counts.cleared, 5000);
     EXPECT_GT(counts.hits, 1000) << counts.cleared;
 }
+
+TEST(SharedVertexClearance, TheAllowanceIsTravelTheProofSurvives) {
+    // After a cleared step, each corner other than the shared vertex is moved
+    // relative to it straight towards the other triangle, by a tenth of the
+    // allowance a step, for as long as the total stays within it, while the
+    // whole pair drifts: every such step must still be cleared at its end
+    // alone, and the narrow phase must find no contact on it.
+    trials::TrialRandom random(20261127);
+    int checked_steps = 0, allowed_pairs = 0;
+    for (const double thickness : trials::kTrialThicknesses) {
+        CCDSettings settings;
+        settings.thickness = thickness;
+        for (int trial = 0; trial < 2000; ++trial) {
+            const bool edge = trial % 2 == 0;
+            const double gap = 0.02 + 0.3 * std::abs(random.unit());
+            const Positions a{Vec3(0, 0, 0), Vec3(1, 0.2 * random.unit(), 0), Vec3(0.5 + 0.3 * random.unit(), 1, 0)};
+            const Triangle ids_a{0, 1, 2}, ids_b = edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3};
+            Positions b{edge ? a[1] : Vec3(0.9, 0.6 * random.unit(), gap), a[0],
+                        Vec3(0.5 + 0.3 * random.unit(), 0.3 + 0.6 * std::abs(random.unit()), gap)};
+            if (trial % 4 >= 2) b = {edge ? a[1] : Vec3(0.9, -0.8, 0.1 * random.unit()), a[0], Vec3(0.4, -0.9, gap)};
+            SharedVertexClearance clearance;
+            clearance.start(ids_a, a, ids_b, b, kMagnitude);
+            Positions a1 = shifted(a, random.point(0.05)), b1 = shifted(b, a1[0] - a[0]);
+            b1[2] += random.point(0.01);
+            if (!clearance.holds_over(ids_a, a, a1, ids_b, b, b1, thickness, settings.tolerance)) continue;
+            const double allowance = clearance.allowance();
+            if (!(allowance > 0.0)) continue;
+            ++allowed_pairs;
+            const double step = 0.1 * allowance;
+            Positions from_a = a1, from_b = b1;
+            for (int k = 1; k <= 9; ++k) {
+                const Vec3 centre_a = (from_a[0] + from_a[1] + from_a[2]) / 3.0;
+                const Vec3 centre_b = (from_b[0] + from_b[1] + from_b[2]) / 3.0;
+                const Vec3 drift = random.point(0.05);
+                Positions to_a = shifted(from_a, drift), to_b = shifted(from_b, drift);
+                // Every corner but the shared one (index 0 of A, 1 of B) towards the other triangle.
+                for (int i = 1; i < 3; ++i) to_a[i] += step * (centre_b - from_a[i]).normalized();
+                to_b[2] += step * (centre_a - from_b[2]).normalized();
+                if (edge) to_b[0] = to_a[1];
+                else to_b[0] += step * (centre_a - from_b[0]).normalized();
+                to_b[1] = to_a[0];
+                EXPECT_TRUE(clearance.holds_at_end(to_a, to_b)) << "trial " << trial << " step " << k;
+                EXPECT_FALSE(triangle_pair_ccd({ids_a, from_a, to_a}, {ids_b, from_b, to_b}, true, settings).hit)
+                    << "trial " << trial << " step " << k;
+                ++checked_steps;
+                from_a = to_a;
+                from_b = to_b;
+            }
+        }
+    }
+    EXPECT_GT(allowed_pairs, 1000);
+    EXPECT_GT(checked_steps, 9000);
+}

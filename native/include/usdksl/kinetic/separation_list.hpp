@@ -115,6 +115,7 @@ private:
         SharedVertexClearance clearance;
         int32_t list;
         int32_t tri_a, tri_b;
+        int32_t leaf_a, leaf_b;  // their leaves in the mesh's tree
         int8_t wait;     // steps to go before the next certificate
         int8_t backoff;  // steps to wait after the next one fails at once
         bool certified;  // a certificate is running
@@ -189,6 +190,11 @@ private:
     /// True when the pair's certificate (started, restarted or backing off
     /// as test_steps() schedules a ClearanceRun) clears the current step.
     bool clears_step(SharedVertexPair& pair);
+    /// The steps after this one that a pair's certificate, having cleared
+    /// this one, provably clears too, from how far the trees' recorded
+    /// travel lets its corners move (its allowance): the index in times_ of
+    /// the last one's end.
+    size_t cleared_ahead(const SharedVertexPair& pair) const;
     /// The clearance certificate an overlapping leaf pair carries from one
     /// step to the next (allocated on first use).
     ClearanceRun& clearance_run(Entry& entry);

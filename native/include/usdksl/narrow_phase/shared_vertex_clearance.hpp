@@ -75,6 +75,15 @@ public:
     ///        caller needs the begin positions only then).
     bool holds_at_end(const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b1);
 
+    /// @brief After holds_over() or holds_at_end() answered true: how far
+    ///        (scene units) the four corners other than the shared vertex may
+    ///        move relative to it from the step's end, each by at most this
+    ///        much over any number of further steps, with the proof that
+    ///        answered still holding at each of their ends and so throughout
+    ///        (holds_at_end() would answer true at each). 0 when it cannot
+    ///        tell, or after an answer of false.
+    double allowance() const { return allowance_; }
+
 private:
     /// The four vertices other than the shared one (A's two, then B's),
     /// relative to it, at one instant, and the largest of their distances
@@ -100,6 +109,8 @@ private:
                                  const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1, double reach);
     double swept_reach(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
                        const std::array<Vec3, 3>& b1, double contact_distance, double tolerance) const;
+    void keep_drift_allowance(double drift_at_end);
+    void keep_plane_allowance(double margin_at_end, double radius_at_end);
     bool drift_proof(const Triangle& ids_a, const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
                      const Triangle& ids_b, const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1,
                      double contact_distance, double tolerance);
@@ -126,6 +137,8 @@ private:
     /// that reach times |normal_|, rounded up: the end cleared at least it.
     float proven_radius_ = 0.0f;
     float plane_least_ = 0.0f;
+    /// allowance(), rounded down (scene units).
+    float allowance_ = 0.0f;
     int8_t shared_a_ = 0, shared_b_ = 0;  // index of the shared vertex in A and in B
     /// The triangles share exactly one vertex (a shared edge lies in every
     /// plane through its ends: no plane proof).
