@@ -548,11 +548,13 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
     if (!pair.certified && pair.wait == 0) start_certificate();
     if (pair.static_pending) {
         // The window's first step: a certificate that holds at its begin
-        // proves what the static test would find (no contact there).
+        // proves what the static test would find (no contact there), once no
+        // edge pierces the other triangle, which a plane rules out already.
         pair.static_pending = false;
         const bool clear = pair.certified &&
                            pair.clearance.holds_over(ids_a, a0, a0, ids_b, b0, b0, contact_distance, tolerance) &&
-                           !edge_pierces_triangle(ids_a, a0, ids_b, b0) && !edge_pierces_triangle(ids_b, b0, ids_a, a0);
+                           (pair.clearance.separated_by_plane() || (!edge_pierces_triangle(ids_a, a0, ids_b, b0) &&
+                                                                    !edge_pierces_triangle(ids_b, b0, ids_a, a0)));
         if (!clear && tester_.test_static(list.mesh_a, pair.tri_a, list.mesh_b, pair.tri_b, t_begin_)) {
             pair.static_hit = true;
             return false;

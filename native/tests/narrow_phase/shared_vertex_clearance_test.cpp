@@ -250,3 +250,22 @@ TEST(SharedVertexClearance, TheAllowanceIsTravelTheProofSurvives) {
     EXPECT_GT(allowed_pairs, 1000);
     EXPECT_GT(checked_steps, 9000);
 }
+
+TEST(SharedVertexClearance, OnlyAPlaneRulesOutAPiercingEdge) {
+    // A's edge between its free corners passes through B's inside, far from
+    // B's edges and from its own ends: every tested primitive pair is apart,
+    // so a proof may hold, but no plane through the shared vertex does.
+    const Triangle ids_a{0, 1, 2}, ids_b{0, 3, 4};
+    const Positions a{Vec3(0, 0, 0), Vec3(0.5, 0.5, 1), Vec3(0.5, 0.5, -1)};
+    const Positions b{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 2, 0)};
+    ASSERT_TRUE(edge_pierces_triangle(ids_a, a, ids_b, b));
+    SharedVertexClearance pierced;
+    pierced.start(ids_a, a, ids_b, b, kMagnitude);
+    ASSERT_TRUE(pierced.holds_over(ids_a, a, a, ids_b, b, b, 0.01, DEFAULT_CCD_TOLERANCE));
+    EXPECT_FALSE(pierced.separated_by_plane());
+    // The fan pair is held apart by a plane.
+    SharedVertexClearance fan;
+    fan.start(kFanA, kFanAt, kFanB, kFanBt, kMagnitude);
+    ASSERT_TRUE(fan.holds_over(kFanA, kFanAt, kFanAt, kFanB, kFanBt, kFanBt, 0.01, DEFAULT_CCD_TOLERANCE));
+    EXPECT_TRUE(fan.separated_by_plane());
+}

@@ -75,6 +75,13 @@ public:
     ///        caller needs the begin positions only then).
     bool holds_at_end(const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b1);
 
+    /// @brief After holds_over() or holds_at_end() answered true: whether a
+    ///        plane through the shared vertex held, with everything of either
+    ///        triangle but that vertex strictly on its own side at both ends
+    ///        of the step, so that the triangles meet nowhere else (no edge of
+    ///        one pierces the other, which no tested primitive pair measures).
+    bool separated_by_plane() const { return plane_held_; }
+
     /// @brief After holds_over() or holds_at_end() answered true: how far
     ///        (scene units) the four corners other than the shared vertex may
     ///        move relative to it from the step's end, each by at most this
