@@ -109,9 +109,9 @@ SharedVertexClearance::FreeCorners SharedVertexClearance::free_corners(const std
     corners.offset[1] = a[(shared_a_ + 2) % 3] - shared;
     corners.offset[2] = b[(shared_b_ + 1) % 3] - shared;
     corners.offset[3] = b[(shared_b_ + 2) % 3] - shared;
-    double squared = 0.0;
-    for (const Vec3& offset : corners.offset) squared = std::max(squared, offset.squaredNorm());
-    corners.radius = std::sqrt(squared);
+    corners.radius_squared = 0.0;
+    for (const Vec3& offset : corners.offset)
+        corners.radius_squared = std::max(corners.radius_squared, offset.squaredNorm());
     return corners;
 }
 
@@ -247,21 +247,14 @@ bool SharedVertexClearance::holds_at_end(const std::array<Vec3, 3>& a1, const st
     if (plane_held_) {
         plane_held_ = false;
         // The begin cleared plane_least_, the reach within proven_radius_; the end must too, within it.
-        const Vec3& shared = a1[shared_a_];
-        FreeCorners end;
-        end.offset[0] = a1[(shared_a_ + 1) % 3] - shared;
-        end.offset[1] = a1[(shared_a_ + 2) % 3] - shared;
-        end.offset[2] = b1[(shared_b_ + 1) % 3] - shared;
-        end.offset[3] = b1[(shared_b_ + 2) % 3] - shared;
-        double squared = 0.0;
-        for (const Vec3& offset : end.offset) squared = std::max(squared, offset.squaredNorm());
+        const FreeCorners end = free_corners(a1, b1);
         // Exact: a product of two floats fits a double.
         const double radius = proven_radius_;
-        if (squared <= radius * radius) {
+        if (end.radius_squared <= radius * radius) {
             const double margin = plane_margin(last_normal(), end);
             if (margin > plane_least_) {
                 plane_held_ = true;
-                keep_plane_allowance(margin, std::sqrt(squared));
+                keep_plane_allowance(margin, std::sqrt(end.radius_squared));
                 return true;
             }
             last_fell_short_ = true;
@@ -291,7 +284,8 @@ bool SharedVertexClearance::holds_over(const Triangle& ids_a, const std::array<V
     const FreeCorners begin = free_corners(a0, b0), end = free_corners(a1, b1);
     // Proven with headroom, a plane stays on the end-only path while the pair stretches a little; the
     // radius and the reach are rounded up to single precision as they are kept.
-    const float radius = rounded_up(SHARED_VERTEX_RADIUS_HEADROOM * std::max(begin.radius, end.radius));
+    const float radius =
+        rounded_up(SHARED_VERTEX_RADIUS_HEADROOM * std::sqrt(std::max(begin.radius_squared, end.radius_squared)));
     // The last normal, unless its end fell short; then one fitted to the step.
     const bool ask_last = !last_fell_short_;
     last_fell_short_ = false;
@@ -300,7 +294,7 @@ bool SharedVertexClearance::holds_over(const Triangle& ids_a, const std::array<V
         const float least = plane_least(normals[i], radius, contact_distance, tolerance);
         if (plane_holds(normals[i], begin, end, least)) {
             keep_plane(normals[i], radius, least);
-            keep_plane_allowance(plane_margin(normals[i], end), end.radius);
+            keep_plane_allowance(plane_margin(normals[i], end), std::sqrt(end.radius_squared));
             return true;
         }
     }

@@ -99,8 +99,8 @@ TEST(SharedVertexClearance, FoldingOneTriangleOntoTheOtherEndsIt) {
         const auto folded = [&](double angle) {
             const Vec3 free(0.5, -std::cos(angle), std::sin(angle));
             // Sharing only vertex 0, B's second corner turns with its third.
-            return Positions{Vec3(0, 0, 0), shares_edge ? Vec3(1, 0, 0) : Vec3(0.8, -0.6 * std::cos(angle), 0.6 * std::sin(angle)),
-                             free};
+            const Vec3 second = shares_edge ? Vec3(1, 0, 0) : Vec3(0.8, -0.6 * std::cos(angle), 0.6 * std::sin(angle));
+            return Positions{Vec3(0, 0, 0), second, free};
         };
         SharedVertexClearance clearance;
         clearance.start(ids_a, a, ids_b, folded(0.0), kMagnitude);
@@ -108,7 +108,8 @@ TEST(SharedVertexClearance, FoldingOneTriangleOntoTheOtherEndsIt) {
         const int steps = 64;
         for (int step = 1; step <= steps && !ended; ++step) {
             const double before = M_PI * (step - 1) / steps, after = M_PI * step / steps;
-            const bool hit = triangle_pair_ccd({ids_a, a, a}, {ids_b, folded(before), folded(after)}, true, settings).hit;
+            const bool hit =
+                triangle_pair_ccd({ids_a, a, a}, {ids_b, folded(before), folded(after)}, true, settings).hit;
             ended = !clearance.holds_over(ids_a, a, a, ids_b, folded(before), folded(after),
                                           thickness, settings.tolerance);
             EXPECT_FALSE(!ended && hit) << "step " << step << (shares_edge ? " sharing an edge" : " sharing a vertex");

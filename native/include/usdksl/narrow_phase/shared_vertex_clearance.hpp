@@ -93,11 +93,11 @@ public:
 
 private:
     /// The four vertices other than the shared one (A's two, then B's),
-    /// relative to it, at one instant, and the largest of their distances
-    /// from it (scene units).
+    /// relative to it, at one instant, and the square of the largest of their
+    /// distances from it (scene units).
     struct FreeCorners {
         Vec3 offset[4];
-        double radius;
+        double radius_squared;
     };
     FreeCorners free_corners(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const;
     /// Least height of B's free corners and depth of A's along `normal`.
