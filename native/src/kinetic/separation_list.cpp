@@ -614,10 +614,11 @@ size_t KineticSeparationLists::cleared_ahead(const SharedVertexPair& pair) const
     const size_t recorded = std::min(travel_recorded_, times_.size() - 1);
     double moved = 0.0;
     for (; step < recorded; ++step) {
-        // Each corner and the shared vertex are under one leaf, whose vertices all move within one
-        // ball during the step: a corner moves relative to the shared vertex by at most its diameter.
-        moved += 2.0 * std::max(static_cast<double>(tree.shift(pair.leaf_a, static_cast<int64_t>(step)).radius),
-                                static_cast<double>(tree.shift(pair.leaf_b, static_cast<int64_t>(step)).radius));
+        // Each corner and the shared vertex are under one leaf, whose vertices' displacements during the
+        // step all lie in one cube: a corner moves relative to the shared vertex by at most its diagonal.
+        moved += SHIFT_CUBE_DIAGONAL_PER_RADIUS *
+                 std::max(static_cast<double>(tree.shift(pair.leaf_a, static_cast<int64_t>(step)).radius),
+                          static_cast<double>(tree.shift(pair.leaf_b, static_cast<int64_t>(step)).radius));
         if (!(moved < allowance)) break;
     }
     return step;

@@ -214,3 +214,44 @@ TEST(StepBoxTree, ListsTheDistinctVerticesUnderEveryNodeSmallEnoughForAPlane) {
     repeated.triangle_face.push_back(static_cast<int32_t>(repeated.triangle_face.size()));
     EXPECT_EQ(check_vertices_under(repeated), 2 * static_cast<int>(repeated.triangles.size()) - 1);
 }
+
+TEST(StepBoxTree, TwoVerticesUnderALeafMoveApartByAtMostTheShiftsDiagonal) {
+    // A triangle whose corners move along the axes' diagonal by different
+    // amounts each step (the direction in which a per-axis half-width
+    // understates a displacement the most): the difference of any two of its
+    // vertices' displacements over a step stays within
+    // SHIFT_CUBE_DIAGONAL_PER_RADIUS times the leaf's shift radius, and
+    // comes within 0.01 scene units of it (the bound is probed where it is
+    // tight: twice the radius would not hold).
+    MeshAnimation mesh;
+    mesh.vertex_count = 3;
+    mesh.triangles = {{0, 1, 2}};
+    const int samples = 12;
+    for (int k = 0; k < samples; ++k) {
+        mesh.times.push_back(static_cast<double>(k));
+        const double wobble = (k % 2 == 0) ? 1.0 : -1.0;  // a breakpoint at every sample
+        const Vec3 corners[3] = {Vec3(0, 0, 0), Vec3(1, 0, 0) + 0.1 * wobble * Vec3(1, 1, 1),
+                                 Vec3(0, 1, 0) + 0.05 * k * Vec3(1, 1, 1)};
+        for (const Vec3& p : corners)
+            for (int axis = 0; axis < 3; ++axis) mesh.points.push_back(p[axis]);
+    }
+    const Flightplans plans(mesh, false);
+    StepBoxTree tree(plans, mesh.triangles, mesh.times.front());
+    int32_t leaf = 0;
+    while (!tree.topology().is_leaf(leaf)) ++leaf;
+    double closest = std::numeric_limits<double>::infinity();
+    for (int64_t k = 0; k + 1 < samples; ++k) {
+        tree.record_travel(k, mesh.times[k], mesh.times[k + 1]);
+        const double bound = SHIFT_CUBE_DIAGONAL_PER_RADIUS * tree.shift(leaf, k).radius;
+        for (int32_t i = 0; i < 3; ++i) {
+            for (int32_t j = i + 1; j < 3; ++j) {
+                const Vec3 moved_i = plans.position(i, mesh.times[k + 1]) - plans.position(i, mesh.times[k]);
+                const Vec3 moved_j = plans.position(j, mesh.times[k + 1]) - plans.position(j, mesh.times[k]);
+                const double apart = (moved_i - moved_j).norm();
+                EXPECT_LE(apart, bound) << "vertices " << i << " and " << j << " in step " << k;
+                if (apart > 0.0) closest = std::min(closest, bound - apart);
+            }
+        }
+    }
+    EXPECT_LT(closest, 0.01);
+}

@@ -37,6 +37,11 @@ constexpr double NODE_TRAVEL_ROUNDING = 1e-6;
 ///        nodes up to this size (StepBoxTree::vertices_under).
 constexpr int32_t NODE_PLANE_MAX_TRIANGLES = 128;
 
+/// @brief Largest distance between two displacements of one NodeShift (a
+///        cube of half-width `radius` per axis), in multiples of its radius:
+///        the cube's diagonal, 2 sqrt(3), rounded up.
+constexpr double SHIFT_CUBE_DIAGONAL_PER_RADIUS = 3.5;
+
 /// @brief Where the vertices under a node move during one recorded step
 ///        (scene units): along each axis every vertex's displacement lies
 ///        within [center - radius, center + radius]. Two nodes that move
