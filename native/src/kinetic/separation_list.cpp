@@ -529,11 +529,9 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
         return cleared;
     };
     // Most steps are cleared by the proof that held at the last one's end, asked at this one's end alone.
-    if (pair.certified && !pair.static_pending) {
-        const std::array<Vec3, 3> a1 = triangle_corners(tree.end_points(), ids_a);
-        const std::array<Vec3, 3> b1 = triangle_corners(tree.end_points(), ids_b);
-        if (pair.clearance.holds_at_end(a1, b1)) return record(true);
-    }
+    const std::array<Vec3, 3> a1 = triangle_corners(tree.end_points(), ids_a);
+    const std::array<Vec3, 3> b1 = triangle_corners(tree.end_points(), ids_b);
+    if (pair.certified && !pair.static_pending && pair.clearance.holds_at_end(a1, b1)) return record(true);
     const std::array<Vec3, 3> a0 = triangle_corners(tree.begin_points(), ids_a);
     const std::array<Vec3, 3> b0 = triangle_corners(tree.begin_points(), ids_b);
     const auto start_certificate = [&]() {
@@ -564,8 +562,6 @@ bool KineticSeparationLists::clears_step(SharedVertexPair& pair) {
         if (pair.wait > 0) --pair.wait;
         return false;
     }
-    const std::array<Vec3, 3> a1 = triangle_corners(tree.end_points(), ids_a);
-    const std::array<Vec3, 3> b1 = triangle_corners(tree.end_points(), ids_b);
     bool cleared = pair.clearance.holds_over(ids_a, a0, a1, ids_b, b0, b1, contact_distance, tolerance);
     if (!cleared && !pair.fresh) {
         start_certificate();

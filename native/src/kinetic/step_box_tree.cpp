@@ -1,6 +1,7 @@
 #include "usdksl/kinetic/step_box_tree.hpp"
 
 #include "usdksl/constants.hpp"
+#include "usdksl/single_precision.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -171,10 +172,7 @@ NodeShift enclosing_shift(const double low[3], const double high[3]) {
         scale = std::max({scale, std::abs(low[axis]), std::abs(high[axis])});
     }
     radius += NODE_TRAVEL_ROUNDING * scale;
-    // Single precision rounds to nearest: step up past the double.
-    float stored = static_cast<float>(radius);
-    if (static_cast<double>(stored) < radius) stored = std::nextafter(stored, std::numeric_limits<float>::infinity());
-    shift.radius = stored;
+    shift.radius = float_at_least(radius);
     return shift;
 }
 

@@ -1,6 +1,7 @@
 #include "usdksl/narrow_phase/pair_clearance.hpp"
 
 #include "usdksl/geometry/primitive_distance.hpp"
+#include "usdksl/narrow_phase/vertex_sharing.hpp"
 
 #include <Eigen/Geometry>
 
@@ -11,11 +12,6 @@
 namespace usdksl {
 namespace {
 
-bool holds_vertex(const Triangle& ids, int32_t v) { return ids[0] == v || ids[1] == v || ids[2] == v; }
-
-bool edges_share_vertex(int32_t e0, int32_t e1, int32_t f0, int32_t f1) {
-    return e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1;
-}
 
 /// Least and most height of a triangle's corners along an axis: every point
 /// of the triangle lies between them.
@@ -120,11 +116,11 @@ double tested_primitive_distance(const Triangle& ids_a, const std::array<Vec3, 3
     // A pair found within `within` answers the caller's question at once.
     const double within_squared = within > 0.0 ? within * within : -1.0;
     for (int i = 0; i < 3; ++i) {
-        if (!(same_mesh && holds_vertex(ids_b, ids_a[i]))) {
+        if (!(same_mesh && triangle_holds_vertex(ids_b, ids_a[i]))) {
             squared = std::min({squared, vertex_to_edge(0, i, 0), vertex_to_edge(0, i, 1), vertex_to_edge(0, i, 2),
                                 point_triangle_interior_distance_squared(a[i], b[0], b[1], b[2])});
         }
-        if (!(same_mesh && holds_vertex(ids_a, ids_b[i]))) {
+        if (!(same_mesh && triangle_holds_vertex(ids_a, ids_b[i]))) {
             squared = std::min({squared, vertex_to_edge(1, i, 0), vertex_to_edge(1, i, 1), vertex_to_edge(1, i, 2),
                                 point_triangle_interior_distance_squared(b[i], a[0], a[1], a[2])});
         }
@@ -166,7 +162,7 @@ void PairClearance::start(const Triangle& ids_a, const std::array<Vec3, 3>& a, c
     bool shared = false;
     reference_ = 0;
     for (int i = 2; i >= 0; --i) {
-        if (same_mesh && holds_vertex(ids_b, ids_a[i])) {
+        if (same_mesh && triangle_holds_vertex(ids_b, ids_a[i])) {
             shared = true;
             reference_ = i;
         }

@@ -1,6 +1,8 @@
 #include "usdksl/narrow_phase/shared_vertex_clearance.hpp"
 
 #include "usdksl/narrow_phase/pair_clearance.hpp"
+#include "usdksl/narrow_phase/vertex_sharing.hpp"
+#include "usdksl/single_precision.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,22 +25,9 @@ double swept_diagonal(const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& 
     return (hi - lo).norm();
 }
 
-/// The float nearest below `value`, and 0 for a value not above 0 (or NaN).
-float rounded_down(double value) {
-    if (!(value > 0.0)) return 0.0f;
-    float rounded = static_cast<float>(value);
-    if (static_cast<double>(rounded) > value) rounded = std::nextafter(rounded, 0.0f);
-    return rounded;
-}
-
-/// The float nearest above `value` (NaN stays NaN).
-float rounded_up(double value) {
-    float rounded = static_cast<float>(value);
-    if (static_cast<double>(rounded) < value) rounded = std::nextafter(rounded, INFINITY);
-    return rounded;
-}
-
-bool holds_vertex(const Triangle& ids, int32_t v) { return ids[0] == v || ids[1] == v || ids[2] == v; }
+/// An allowance (scene units) kept in single precision: never more than `value`, and 0 for a value not
+/// above 0 or NaN.
+float allowance_of(double value) { return value > 0.0 ? float_at_most(value) : 0.0f; }
 
 /// Every point of `y` lies more than `reach` beyond every point of `x` along
 /// the direction from x's centroid to y's (taken halfway through the step),
@@ -88,7 +77,7 @@ void SharedVertexClearance::start(const Triangle& ids_a, const std::array<Vec3, 
     }
     if (shared_a_ < 0) return;  // not a vertex-sharing pair: the proof never holds
     plane_possible_ = shared == 1;
-    magnitude_ = rounded_up(magnitude);
+    magnitude_ = float_at_least(magnitude);
     set_drift_reference(a, b);
 }
 
@@ -124,17 +113,12 @@ double SharedVertexClearance::plane_margin(const Vec3& normal, const FreeCorners
     return margin;
 }
 
-double SharedVertexClearance::plane_reach(const Vec3& normal, double radius, double contact_distance,
-                                          double tolerance) const {
-    // Heights are normal . offset: the reach is scaled by |normal| instead of dividing each height by it.
-    return clearance_reach(contact_distance, clearance_size_fraction(tolerance),
-                           SHARED_VERTEX_BOX_DIAGONAL_PER_RADIUS * radius, 0.0, magnitude_) *
-           normal.norm();
-}
-
 float SharedVertexClearance::plane_least(const Vec3& normal, float radius, double contact_distance,
                                          double tolerance) const {
-    return rounded_up(plane_reach(normal, radius, contact_distance, tolerance));
+    // Heights are normal . offset: the reach is scaled by |normal| instead of dividing each height by it.
+    return float_at_least(clearance_reach(contact_distance, clearance_size_fraction(tolerance),
+                                          SHARED_VERTEX_BOX_DIAGONAL_PER_RADIUS * radius, 0.0, magnitude_) *
+                          normal.norm());
 }
 
 bool SharedVertexClearance::plane_holds(const Vec3& normal, const FreeCorners& begin, const FreeCorners& end,
@@ -151,7 +135,8 @@ Vec3 SharedVertexClearance::fitted_normal(const FreeCorners& begin, const FreeCo
         return length > 0.0 ? Vec3(v / length) : Vec3(Vec3::Zero());
     };
     const auto middle = [&](int i) { return direction(begin.offset[i] + end.offset[i]); };
-    return direction(middle(2) + middle(3)) - direction(middle(0) + middle(1));
+    // In single precision, as normal_ keeps it: the plane proven is the plane kept.
+    return (direction(middle(2) + middle(3)) - direction(middle(0) + middle(1))).cast<float>().cast<double>();
 }
 
 bool SharedVertexClearance::primitives_apart(const Triangle& ids_a, const std::array<Vec3, 3>& a0,
@@ -160,18 +145,16 @@ bool SharedVertexClearance::primitives_apart(const Triangle& ids_a, const std::a
                                              double reach) {
     // The primitive pairs the narrow phase tests for two triangles of one mesh, as triangle_pair_ccd takes them.
     for (int i = 0; i < 3; ++i) {
-        if (!holds_vertex(ids_b, ids_a[i]) && !centroids_apart(&a0[i], &a1[i], 1, b0.data(), b1.data(), 3, reach))
+        if (!triangle_holds_vertex(ids_b, ids_a[i]) && !centroids_apart(&a0[i], &a1[i], 1, b0.data(), b1.data(), 3, reach))
             return false;
-        if (!holds_vertex(ids_a, ids_b[i]) && !centroids_apart(&b0[i], &b1[i], 1, a0.data(), a1.data(), 3, reach))
+        if (!triangle_holds_vertex(ids_a, ids_b[i]) && !centroids_apart(&b0[i], &b1[i], 1, a0.data(), a1.data(), 3, reach))
             return false;
     }
     for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3;
         for (int j = 0; j < 3; ++j) {
             const int j1 = (j + 1) % 3;
-            const int32_t ends_b[2] = {ids_b[j], ids_b[j1]};
-            if (ends_b[0] == ids_a[i] || ends_b[0] == ids_a[i1] || ends_b[1] == ids_a[i] || ends_b[1] == ids_a[i1])
-                continue;
+            if (edges_share_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;
             const Vec3 edge_a0[2] = {a0[i], a0[i1]}, edge_a1[2] = {a1[i], a1[i1]};
             const Vec3 edge_b0[2] = {b0[j], b0[j1]}, edge_b1[2] = {b1[j], b1[j1]};
             if (!centroids_apart(edge_a0, edge_a1, 2, edge_b0, edge_b1, 2, reach)) return false;
@@ -223,13 +206,13 @@ bool SharedVertexClearance::drift_proof(const Triangle& ids_a, const std::array<
 void SharedVertexClearance::keep_drift_allowance(double drift_at_end) {
     // A corner moving by d relative to the shared vertex moves its triangle's drift by at most d, and
     // the two triangles' corners may both move.
-    allowance_ = rounded_down(0.5 * (drift_limit_ - drift_at_end));
+    allowance_ = allowance_of(0.5 * (drift_limit_ - drift_at_end));
 }
 
 void SharedVertexClearance::keep_plane_allowance(double margin_at_end, double radius_at_end) {
     // A corner moving by d relative to the shared vertex moves its height by at most |normal| d and its
     // distance from the shared vertex by at most d.
-    allowance_ = rounded_down(
+    allowance_ = allowance_of(
         std::min((margin_at_end - static_cast<double>(plane_least_)) / last_normal().norm(),
                  static_cast<double>(proven_radius_) - radius_at_end));
 }
@@ -285,11 +268,11 @@ bool SharedVertexClearance::holds_over(const Triangle& ids_a, const std::array<V
     // Proven with headroom, a plane stays on the end-only path while the pair stretches a little; the
     // radius and the reach are rounded up to single precision as they are kept.
     const float radius =
-        rounded_up(SHARED_VERTEX_RADIUS_HEADROOM * std::sqrt(std::max(begin.radius_squared, end.radius_squared)));
+        float_at_least(SHARED_VERTEX_RADIUS_HEADROOM * std::sqrt(std::max(begin.radius_squared, end.radius_squared)));
     // The last normal, unless its end fell short; then one fitted to the step.
     const bool ask_last = !last_fell_short_;
     last_fell_short_ = false;
-    const Vec3 normals[2] = {last_normal(), fitted_normal(begin, end).cast<float>().cast<double>()};
+    const Vec3 normals[2] = {last_normal(), fitted_normal(begin, end)};
     for (int i = ask_last ? 0 : 1; i < 2; ++i) {
         const float least = plane_least(normals[i], radius, contact_distance, tolerance);
         if (plane_holds(normals[i], begin, end, least)) {
@@ -306,9 +289,8 @@ bool SharedVertexClearance::holds_over(const Triangle& ids_a, const std::array<V
 Vec3 SharedVertexClearance::last_normal() const { return Vec3(normal_[0], normal_[1], normal_[2]); }
 
 void SharedVertexClearance::keep_plane(const Vec3& normal, float radius, float least) {
-    for (int k = 0; k < 3; ++k) normal_[k] = static_cast<float>(normal[k]);
-    // Only a normal exactly as kept may be asked at the end alone.
-    plane_held_ = last_normal() == normal;
+    for (int k = 0; k < 3; ++k) normal_[k] = static_cast<float>(normal[k]);  // exact: a normal in single precision
+    plane_held_ = true;
     proven_radius_ = radius;
     plane_least_ = least;
 }

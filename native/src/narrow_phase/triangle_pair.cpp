@@ -11,6 +11,7 @@
 #include "usdksl/geometry/primitive_distance.hpp"
 #include "usdksl/geometry/triangle_triangle_static.hpp"
 #include "usdksl/ccd/vertex_face_ccd.hpp"
+#include "usdksl/narrow_phase/vertex_sharing.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,14 +33,6 @@ bool boxes_within(const Box& a, const Box& b, double reach) {
     return true;
 }
 
-bool contains_id(const Triangle& ids, int32_t id) {
-    return ids[0] == id || ids[1] == id || ids[2] == id;
-}
-
-bool edge_shares_vertex(int32_t e0, int32_t e1, int32_t f0, int32_t f1) {
-    return e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1;
-}
-
 /// Largest absolute coordinate of a set of boxes (for rounding slack).
 double magnitude_of(const Box* boxes, int count) {
     double magnitude = 0.0;
@@ -54,7 +47,7 @@ bool edge_pierces_triangle(const Triangle& ids_a, const std::array<Vec3, 3>& a, 
                            const std::array<Vec3, 3>& b) {
     for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3;
-        if (!contains_id(ids_b, ids_a[i]) && !contains_id(ids_b, ids_a[i1]) &&
+        if (!triangle_holds_vertex(ids_b, ids_a[i]) && !triangle_holds_vertex(ids_b, ids_a[i1]) &&
             segment_intersects_triangle(a[i], a[i1], b[0], b[1], b[2]))
             return true;
     }
@@ -115,14 +108,14 @@ TrianglePairContact search_triangle_pair(const MovingTriangle& a, const MovingTr
 
     // Vertices of A against triangle B.
     for (int i = 0; i < 3 && best_toi > 0.0; ++i) {
-        if (same_mesh && contains_id(b.ids, a.ids[i])) continue;
+        if (same_mesh && triangle_holds_vertex(b.ids, a.ids[i])) continue;
         if (!boxes_within(swept_a[i], triangle_b, reach)) continue;
         consider(ask(i, {false, {a.t0[i], b.t0[0], b.t0[1], b.t0[2]}, {a.t1[i], b.t1[0], b.t1[1], b.t1[2]}}),
                  ContactFeature::VertexFace);
     }
     // Vertices of B against triangle A.
     for (int j = 0; j < 3 && best_toi > 0.0; ++j) {
-        if (same_mesh && contains_id(a.ids, b.ids[j])) continue;
+        if (same_mesh && triangle_holds_vertex(a.ids, b.ids[j])) continue;
         if (!boxes_within(swept_b[j], triangle_a, reach)) continue;
         consider(ask(3 + j, {false, {b.t0[j], a.t0[0], a.t0[1], a.t0[2]}, {b.t1[j], a.t1[0], a.t1[1], a.t1[2]}}),
                  ContactFeature::FaceVertex);
@@ -134,7 +127,7 @@ TrianglePairContact search_triangle_pair(const MovingTriangle& a, const MovingTr
         if (!boxes_within(edge_a, triangle_b, reach)) continue;
         for (int j = 0; j < 3 && best_toi > 0.0; ++j) {
             const int j1 = (j + 1) % 3;
-            if (same_mesh && edge_shares_vertex(a.ids[i], a.ids[i1], b.ids[j], b.ids[j1])) continue;
+            if (same_mesh && edges_share_vertex(a.ids[i], a.ids[i1], b.ids[j], b.ids[j1])) continue;
             if (!boxes_within(edge_a, swept_b[j].merged(swept_b[j1]), reach)) continue;
             consider(ask(6 + 3 * i + j,
                          {true, {a.t0[i], a.t0[i1], b.t0[j], b.t0[j1]}, {a.t1[i], a.t1[i1], b.t1[j], b.t1[j1]}}),
@@ -246,7 +239,7 @@ bool triangle_pair_intersect_static(const Triangle& ids_a, const std::array<Vec3
                                     bool same_mesh, double thickness) {
     bool any_shared = false;
     if (same_mesh) {
-        for (int i = 0; i < 3; ++i) any_shared = any_shared || contains_id(ids_b, ids_a[i]);
+        for (int i = 0; i < 3; ++i) any_shared = any_shared || triangle_holds_vertex(ids_b, ids_a[i]);
     }
     if (!any_shared) return triangles_intersect_static(a, b, thickness);
 
@@ -263,12 +256,12 @@ bool triangle_pair_intersect_static(const Triangle& ids_a, const std::array<Vec3
     const bool use_distance = thickness > 0.0;
 
     for (int i = 0; i < 3; ++i) {
-        if (!contains_id(ids_b, ids_a[i])) {
+        if (!triangle_holds_vertex(ids_b, ids_a[i])) {
             if (use_distance ? point_triangle_distance_squared(a[i], b[0], b[1], b[2]) <= reach_squared
                              : point_in_triangle(a[i], b[0], b[1], b[2]))
                 return true;
         }
-        if (!contains_id(ids_a, ids_b[i])) {
+        if (!triangle_holds_vertex(ids_a, ids_b[i])) {
             if (use_distance ? point_triangle_distance_squared(b[i], a[0], a[1], a[2]) <= reach_squared
                              : point_in_triangle(b[i], a[0], a[1], a[2]))
                 return true;
@@ -279,7 +272,7 @@ bool triangle_pair_intersect_static(const Triangle& ids_a, const std::array<Vec3
         const int i1 = (i + 1) % 3;
         for (int j = 0; j < 3; ++j) {
             const int j1 = (j + 1) % 3;
-            if (edge_shares_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;
+            if (edges_share_vertex(ids_a[i], ids_a[i1], ids_b[j], ids_b[j1])) continue;
             if (use_distance
                     ? segment_segment_distance_squared(a[i], a[i1], b[j], b[j1]) <= reach_squared
                     : segments_intersect(a[i], a[i1], b[j], b[j1]))

@@ -16,6 +16,9 @@ namespace usdksl::trials {
 
 using Positions = std::array<Vec3, 3>;
 
+/// @brief Positions moved by `by` (scene units).
+inline Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
+
 /// @brief A triangle pair at one breakpoint: ids and positions (scene units).
 struct TrialPair {
     Triangle ids_a, ids_b;

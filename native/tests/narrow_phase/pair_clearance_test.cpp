@@ -17,8 +17,7 @@ using namespace usdksl;
 namespace {
 
 using trials::Positions;
-
-Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
+using trials::shifted;
 
 /// Magnitude bound for positions within this many scene units of the origin.
 constexpr double kMagnitude = 10.0;

@@ -19,8 +19,7 @@ using namespace usdksl;
 namespace {
 
 using trials::Positions;
-
-Positions shifted(const Positions& p, const Vec3& by) { return {p[0] + by, p[1] + by, p[2] + by}; }
+using trials::shifted;
 
 /// Positions turned by `turn` about `centre`.
 Positions turned(const Positions& p, const Eigen::Matrix3d& turn, const Vec3& centre) {
@@ -36,6 +35,17 @@ constexpr double kMagnitude = 10.0;
 const Triangle kFanA{0, 1, 2}, kFanB{3, 0, 4};
 const Positions kFanAt{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.7, 0.7, 0)};
 const Positions kFanBt{Vec3(-0.7, 0.7, 0), Vec3(0, 0, 0), Vec3(-1, 0, 0)};
+
+/// A pair folded almost flat: A in the plane z = 0 with its corner 0 shared,
+/// B hinged on A's edge (0, 1) or fanned about vertex 0 (`edge`), its free
+/// corners over A at a height up to `largest_gap` (scene units).
+trials::TrialPair nearly_folded_pair(trials::TrialRandom& random, bool edge, double largest_gap) {
+    const double gap = 0.02 + largest_gap * std::abs(random.unit());
+    const Positions a{Vec3(0, 0, 0), Vec3(1, 0.2 * random.unit(), 0), Vec3(0.5 + 0.3 * random.unit(), 1, 0)};
+    const Vec3 free_b(0.5 + 0.3 * random.unit(), 0.3 + 0.6 * std::abs(random.unit()), gap);
+    return {{0, 1, 2}, edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3}, a,
+            {edge ? a[1] : Vec3(0.9, 0.6 * random.unit(), gap), a[0], free_b}};
+}
 
 } // namespace
 
@@ -175,11 +185,7 @@ TEST(SharedVertexClearance, ClearsOnlyStepsTheNarrowPhaseFindsNoContactOnWhenNea
     const auto start = [&](trials::TrialRandom& random, const CCDSettings& run, int trial) {
         settings = run;
         edge = trial % 2 == 0;
-        const double gap = 0.02 + 0.1 * std::abs(random.unit());
-        const Positions a{Vec3(0, 0, 0), Vec3(1, 0.2 * random.unit(), 0), Vec3(0.5 + 0.3 * random.unit(), 1, 0)};
-        const Vec3 free_b(0.5 + 0.3 * random.unit(), 0.3 + 0.6 * std::abs(random.unit()), gap);
-        const trials::TrialPair pair{{0, 1, 2}, edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3}, a,
-                                      {edge ? a[1] : Vec3(0.9, 0.6 * random.unit(), gap), a[0], free_b}};
+        const trials::TrialPair pair = nearly_folded_pair(random, edge, 0.1);
         clearance.start(pair.ids_a, pair.a, pair.ids_b, pair.b, kMagnitude);
         return pair;
     };
@@ -212,12 +218,14 @@ TEST(SharedVertexClearance, TheAllowanceIsTravelTheProofSurvives) {
         settings.thickness = thickness;
         for (int trial = 0; trial < 2000; ++trial) {
             const bool edge = trial % 2 == 0;
-            const double gap = 0.02 + 0.3 * std::abs(random.unit());
-            const Positions a{Vec3(0, 0, 0), Vec3(1, 0.2 * random.unit(), 0), Vec3(0.5 + 0.3 * random.unit(), 1, 0)};
-            const Triangle ids_a{0, 1, 2}, ids_b = edge ? Triangle{1, 0, 3} : Triangle{4, 0, 3};
-            Positions b{edge ? a[1] : Vec3(0.9, 0.6 * random.unit(), gap), a[0],
-                        Vec3(0.5 + 0.3 * random.unit(), 0.3 + 0.6 * std::abs(random.unit()), gap)};
-            if (trial % 4 >= 2) b = {edge ? a[1] : Vec3(0.9, -0.8, 0.1 * random.unit()), a[0], Vec3(0.4, -0.9, gap)};
+            trials::TrialPair pair = nearly_folded_pair(random, edge, 0.3);
+            // Every other pair of trials has B turned away from A across the shared vertex.
+            if (trial % 4 >= 2) {
+                const double gap = pair.b[2].z();
+                pair.b = {edge ? pair.a[1] : Vec3(0.9, -0.8, 0.1 * random.unit()), pair.a[0], Vec3(0.4, -0.9, gap)};
+            }
+            const Triangle &ids_a = pair.ids_a, &ids_b = pair.ids_b;
+            const Positions &a = pair.a, &b = pair.b;
             SharedVertexClearance clearance;
             clearance.start(ids_a, a, ids_b, b, kMagnitude);
             Positions a1 = shifted(a, random.point(0.05)), b1 = shifted(b, a1[0] - a[0]);

@@ -102,14 +102,15 @@ private:
     FreeCorners free_corners(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) const;
     /// Least height of B's free corners and depth of A's along `normal`.
     static double plane_margin(const Vec3& normal, const FreeCorners& corners);
-    /// The reach along a plane, times |normal|, for a pair within `radius` of its shared vertex.
-    double plane_reach(const Vec3& normal, double radius, double contact_distance, double tolerance) const;
-    /// plane_reach() rounded up to single precision, as kept.
+    /// The reach along a plane, times |normal|, for a pair within `radius` of
+    /// its shared vertex, rounded up to single precision as it is kept.
     float plane_least(const Vec3& normal, float radius, double contact_distance, double tolerance) const;
     /// Both ends' margins along `normal` beyond `least` (a plane_least()).
     static bool plane_holds(const Vec3& normal, const FreeCorners& begin, const FreeCorners& end, float least);
+    /// A plane normal fitted to the step, in single precision (not unit).
     static Vec3 fitted_normal(const FreeCorners& begin, const FreeCorners& end);
     Vec3 last_normal() const;
+    /// Keeps a normal in single precision, proven for `radius` against `least`.
     void keep_plane(const Vec3& normal, float radius, float least);
     static bool primitives_apart(const Triangle& ids_a, const std::array<Vec3, 3>& a0,
                                  const std::array<Vec3, 3>& a1, const Triangle& ids_b,
