@@ -40,12 +40,12 @@ constexpr double CHORD_WINDOW_MAGNITUDE_RATIO = 0x1p10;
 ///        run's coordinates) and is measured sample by sample.
 class ChordVelocityWindow {
 public:
-    /// @brief Starts an empty window (every chord) at sample `anchor` of vertex v.
-    void reset(const MeshAnimation& mesh, int32_t v, int64_t anchor) {
-        mesh_ = &mesh;
-        v_ = v;
-        anchor_time_ = mesh.times[anchor];
-        anchor_point_ = mesh.sample_point(anchor, v);
+    /// @brief Starts an empty window (every chord) at sample `anchor` of
+    ///        vertex v, which lies at `anchor_point`.
+    void reset(const MeshAnimation& mesh, int64_t anchor, const Vec3& anchor_point) {
+        times_ = mesh.times.data();
+        anchor_time_ = times_[anchor];
+        anchor_point_ = anchor_point;
         anchor_magnitude_ = point_magnitude(anchor_point_);
         tolerance_ = (1.0 - CHORD_WINDOW_MARGIN) * FLIGHTPLAN_COLLINEAR_TOLERANCE * anchor_magnitude_;
         for (int axis = 0; axis < 3; ++axis) {
@@ -54,37 +54,35 @@ public:
         }
     }
 
-    /// @brief Narrows the window to the chords that pass close to sample j (after the anchor).
-    void add(int64_t j) {
-        const double tau = mesh_->times[j] - anchor_time_;
-        const Vec3& a = anchor_point_;
-        const Vec3 p = mesh_->sample_point(j, v_);
+    /// @brief Narrows the window to the chords that pass close to sample j
+    ///        (after the anchor), where the vertex lies at `p`. One division:
+    ///        a product with the reciprocal is within two roundings of the
+    ///        quotient, far inside CHORD_WINDOW_MARGIN.
+    void add(int64_t j, const Vec3& p) {
+        const double per_tau = 1.0 / (times_[j] - anchor_time_);
         for (int axis = 0; axis < 3; ++axis) {
-            const double d = p[axis] - a[axis];
-            low_[axis] = std::max(low_[axis], (d - tolerance_) / tau);
-            high_[axis] = std::min(high_[axis], (d + tolerance_) / tau);
+            const double d = p[axis] - anchor_point_[axis];
+            low_[axis] = std::max(low_[axis], (d - tolerance_) * per_tau);
+            high_[axis] = std::min(high_[axis], (d + tolerance_) * per_tau);
         }
     }
 
-    /// @brief True when the chord from the anchor to sample `end` passes
-    ///        within the merge tolerance of every sample added, given the
-    ///        largest absolute coordinate `magnitude` of the samples from the
-    ///        anchor to `end` (false: not decided here).
-    bool admits_chord_to(int64_t end, double magnitude) const {
+    /// @brief True when the chord from the anchor to sample `end`, where the
+    ///        vertex lies at `p`, passes within the merge tolerance of every
+    ///        sample added, given the largest absolute coordinate `magnitude`
+    ///        of the samples from the anchor to `end` (false: not decided here).
+    bool admits_chord_to(int64_t end, const Vec3& p, double magnitude) const {
         if (magnitude > CHORD_WINDOW_MAGNITUDE_RATIO * anchor_magnitude_) return false;
-        const double span = mesh_->times[end] - anchor_time_;
-        const Vec3& a = anchor_point_;
-        const Vec3 p = mesh_->sample_point(end, v_);
+        const double per_span = 1.0 / (times_[end] - anchor_time_);
         for (int axis = 0; axis < 3; ++axis) {
-            const double u = (p[axis] - a[axis]) / span;
+            const double u = (p[axis] - anchor_point_[axis]) * per_span;
             if (!(u >= low_[axis] && u <= high_[axis])) return false;
         }
         return true;
     }
 
 private:
-    const MeshAnimation* mesh_ = nullptr;
-    int32_t v_ = 0;
+    const double* times_ = nullptr;  // the mesh's sample times (time codes)
     double anchor_time_ = 0.0;  // time code
     Vec3 anchor_point_ = Vec3::Zero();  // scene units
     double anchor_magnitude_ = 0.0;  // scene units

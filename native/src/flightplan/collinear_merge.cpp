@@ -11,20 +11,31 @@ namespace usdksl {
 
 void CollinearMergeWalk::start(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
                                std::vector<int64_t>& kept) {
+    kept.assign(1, 0);
+    resume(mesh, v, popularity, kept, 0.0);
+}
+
+void CollinearMergeWalk::resume(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
+                                std::vector<int64_t>& kept, double deviation) {
     mesh_ = &mesh;
     v_ = v;
     popularity_ = popularity;
     kept_ = &kept;
     sample_count_ = static_cast<int64_t>(mesh.times.size());
-    kept.clear();
-    kept.push_back(0);
-    deviation_ = 0.0;
-    run_magnitude_ = sample_magnitude(mesh, v, 0);
-    // sample_magnitude(mesh, v, k) for the k of the step, carried from the step before
-    magnitude_k_ = sample_count_ > 1 ? sample_magnitude(mesh, v, 1) : 0.0;
-    window_.reset(mesh, v, 0);
-    k_ = 1;
+    deviation_ = deviation;
     ended_ = false;
+    begin_run(kept.back());
+}
+
+void CollinearMergeWalk::begin_run(int64_t anchor) {
+    const Vec3 anchor_point = mesh_->sample_point(anchor, v_);
+    run_magnitude_ = point_magnitude(anchor_point);
+    window_.reset(*mesh_, anchor, anchor_point);
+    k_ = anchor + 1;
+    if (k_ < sample_count_) {
+        point_k_ = mesh_->sample_point(k_, v_);
+        magnitude_k_ = point_magnitude(point_k_);
+    }
 }
 
 bool CollinearMergeWalk::advance() {
@@ -41,21 +52,23 @@ bool CollinearMergeWalk::advance() {
         // Drop sample k when every sample since the last kept one lies on
         // the chord from the last kept sample to sample k + 1.
         const int64_t anchor = kept.back();
-        const double magnitude_next = sample_magnitude(mesh, v, k + 1);
+        const Vec3 next = mesh.sample_point(k + 1, v);
+        const double magnitude_next = point_magnitude(next);
         const double magnitude = std::max({run_magnitude_, magnitude_k_, magnitude_next});
-        window_.add(k);
-        bool merges = window_.admits_chord_to(k + 1, magnitude);
+        window_.add(k, point_k_);
+        bool merges = window_.admits_chord_to(k + 1, next, magnitude);
         if (!merges) {
+            // From the latest sample back: a chord overshooting a turn at
+            // sample k is furthest from the samples nearest it.
             const double merge_tolerance = FLIGHTPLAN_COLLINEAR_TOLERANCE * magnitude;
-            double worst = 0.0;
-            for (int64_t j = anchor + 1; j <= k && worst <= merge_tolerance; ++j) {
-                worst = std::max(worst, deviation_from_chord(mesh, v, anchor, j, k + 1));
-            }
-            merges = worst <= merge_tolerance;
+            const Chord chord(mesh, v, anchor, k + 1);
+            merges = true;
+            for (int64_t j = k; j > anchor && merges; --j) merges = chord.deviation_of(j) <= merge_tolerance;
         }
         if (merges) {
             run_magnitude_ = std::max(run_magnitude_, magnitude_k_);
             magnitude_k_ = magnitude_next;
+            point_k_ = next;
             k_ = k + 1;
             return true;
         }
@@ -67,10 +80,7 @@ bool CollinearMergeWalk::advance() {
         deviation_ = std::max(deviation_, run_deviation(mesh, v, kept.back(), k));
     }
     kept.push_back(k);
-    run_magnitude_ = sample_magnitude(mesh, v, k);
-    if (k + 1 < sample_count_) magnitude_k_ = sample_magnitude(mesh, v, k + 1);
-    window_.reset(mesh, v, k);
-    k_ = k + 1;
+    begin_run(k);
     return true;
 }
 
@@ -90,6 +100,19 @@ double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64
                                std::vector<int64_t>& kept) {
     CollinearMergeWalk walk;
     walk.start(mesh, v, popularity, kept);
+    while (walk.advance()) {
+    }
+    return walk.deviation();
+}
+
+double align_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
+                               std::vector<int64_t>& kept, double deviation) {
+    const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
+    const size_t moved = first_unpreferred_break(kept, sample_count, popularity);
+    if (moved == kept.size()) return deviation;
+    kept.resize(moved);
+    CollinearMergeWalk walk;
+    walk.resume(mesh, v, popularity, kept, merge_deviation_of(mesh, v, kept));
     while (walk.advance()) {
     }
     return walk.deviation();

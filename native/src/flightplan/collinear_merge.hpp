@@ -28,6 +28,16 @@ namespace usdksl {
 double merge_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
                                std::vector<int64_t>& kept);
 
+/// @brief merge_collinear_samples(mesh, v, popularity, kept), given in `kept`
+///        and `deviation` what merge_collinear_samples(mesh, v, nullptr, kept)
+///        keeps and returns: the walk with `popularity` takes the same steps
+///        up to the first break that popularity moves
+///        (first_unpreferred_break), so it goes on from the break before that
+///        one; with none, the breakpoints stay.
+/// @return As merge_collinear_samples() returns (scene units).
+double align_collinear_samples(const MeshAnimation& mesh, int32_t v, const int64_t* popularity,
+                               std::vector<int64_t>& kept, double deviation);
+
 /// @brief merge_collinear_samples() of one vertex as a walk that goes a
 ///        sample at a time, so that the walks of several vertices can take
 ///        turns on one thread: a walk along one vertex waits on each step's
@@ -38,6 +48,11 @@ class CollinearMergeWalk {
 public:
     /// @brief Begins vertex v's walk, filling `kept` (which must outlive the walk).
     void start(const MeshAnimation& mesh, int32_t v, const int64_t* popularity, std::vector<int64_t>& kept);
+    /// @brief Goes on with vertex v's walk from the breakpoints in `kept` (its
+    ///        last the anchor of the run to walk), as start() would have
+    ///        reached them, `deviation` the largest of their runs (scene units).
+    void resume(const MeshAnimation& mesh, int32_t v, const int64_t* popularity, std::vector<int64_t>& kept,
+                double deviation);
     /// @brief Takes the walk past its next sample; false once it has ended,
     ///        when `kept` and deviation() are final (then it does nothing).
     bool advance();
@@ -45,6 +60,8 @@ public:
     double deviation() const { return deviation_; }
 
 private:
+    /// Starts the run from sample `anchor`, the walk's last breakpoint.
+    void begin_run(int64_t anchor);
     void finish();
 
     const MeshAnimation* mesh_ = nullptr;
@@ -56,7 +73,8 @@ private:
     bool ended_ = true;
     double deviation_ = 0.0;      // scene units
     double run_magnitude_ = 0.0;  // of the samples since the last kept one (scene units)
-    double magnitude_k_ = 0.0;    // sample_magnitude() of sample k_ (scene units)
+    Vec3 point_k_ = Vec3::Zero();  // the vertex at sample k_ (scene units), read once per step
+    double magnitude_k_ = 0.0;    // point_magnitude() of point_k_ (scene units)
     ChordVelocityWindow window_;
 };
 

@@ -108,11 +108,8 @@ void Flightplans::align_breakpoints(VertexRun& run, const int64_t* popularity) {
         kept.assign(run.kept_samples.begin() + static_cast<std::ptrdiff_t>(at),
                     run.kept_samples.begin() + static_cast<std::ptrdiff_t>(at + static_cast<size_t>(run.count[i])));
         at += static_cast<size_t>(run.count[i]);
-        // Most vertices already break where the others do: merging again would keep the same samples.
-        if (!breaks_are_preferred(kept, sample_count, popularity)) {
-            run.deviation[i] = merge_collinear_samples(mesh, v, popularity, kept);
-            run.count[i] = static_cast<int64_t>(kept.size());
-        }
+        run.deviation[i] = align_collinear_samples(mesh, v, popularity, kept, run.deviation[i]);
+        run.count[i] = static_cast<int64_t>(kept.size());
         for (int64_t k : kept) aligned.push_back(static_cast<int32_t>(k));
         run.merge_deviation = std::max(run.merge_deviation, run.deviation[i]);
     }

@@ -30,12 +30,12 @@ RunEnd aligned_run_end(const MeshAnimation& mesh, int32_t v, int64_t anchor, int
     return {k, run_deviation(mesh, v, anchor, k)};
 }
 
-bool breaks_are_preferred(const std::vector<int64_t>& kept, int64_t sample_count, const int64_t* popularity) {
+size_t first_unpreferred_break(const std::vector<int64_t>& kept, int64_t sample_count, const int64_t* popularity) {
     for (size_t i = 1; i < kept.size(); ++i) {
         if (kept[i] + 1 >= sample_count) break;  // the last sample: kept, not a break
-        if (preferred_break(popularity, kept[i - 1], kept[i]) != kept[i]) return false;
+        if (preferred_break(popularity, kept[i - 1], kept[i]) != kept[i]) return i;
     }
-    return true;
+    return kept.size();
 }
 
 } // namespace usdksl

@@ -11,6 +11,7 @@
 
 #include "usdksl/mesh_animation.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -43,11 +44,13 @@ struct RunEnd {
 ///        merged). The deviation is measured for the run kept.
 RunEnd aligned_run_end(const MeshAnimation& mesh, int32_t v, int64_t anchor, int64_t k, const int64_t* popularity);
 
-/// @brief True when every break in `kept` (a vertex's breakpoints, sample
-///        indices as the plain greedy merge keeps them; the first sample and
-///        the last of `sample_count` are kept anyway) is already the one
-///        preferred_break() picks in its stretch: aligning would then keep the
-///        same breakpoints with the same deviation.
-bool breaks_are_preferred(const std::vector<int64_t>& kept, int64_t sample_count, const int64_t* popularity);
+/// @brief Index in `kept` (a vertex's breakpoints, sample indices as the
+///        plain greedy merge keeps them) of the first break that is not the
+///        one preferred_break() picks in its stretch; kept.size() when every
+///        break is (the first sample and the last of `sample_count` are kept
+///        anyway). Aligning replays the greedy merge up to the break before
+///        it, and with every break preferred keeps the same breakpoints with
+///        the same deviation.
+size_t first_unpreferred_break(const std::vector<int64_t>& kept, int64_t sample_count, const int64_t* popularity);
 
 } // namespace usdksl
