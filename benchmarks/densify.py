@@ -2,6 +2,7 @@
 
     python benchmarks/densify.py benchmarks/caches/newton_tablecloth_f150.usdc --factor 10
     python benchmarks/densify.py CACHE --factor 10 --compare      # also time usdksl check on both, one run each
+    python benchmarks/densify.py CACHE --factor 10 --compare --rounds 5   # both in turn, five rounds: medians
 
 Writes ``<cache stem>_x<factor>.usdc`` beside the cache: the stage flattened, and every attribute with two or
 more time samples given ``factor - 1`` more between each pair, the values USD itself interpolates there
@@ -9,7 +10,9 @@ more time samples given ``factor - 1`` more between each pair, the values USD it
 ``--compare`` ``usdksl check`` runs end to end on the original and on the dense copy (benchmarks/harness.py
 ``run``; one run each) and the ratio dense / original (wall) is printed with both answers' face pair
 counts. The target of continuous checking is a ratio of at most 1.3: the same motion should cost about the
-same however finely it is sampled.
+same however finely it is sampled. On a shared machine one run of each moves by tenths from run to run;
+``--rounds N`` runs the two in turn N times (benchmarks/harness.py ``alternate``, so that both see the same
+stretch of load) and judges the ratio of the median walls, printing each round's ratio too.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ import os
 import sys
 import tempfile
 
-from harness import Build
+from harness import Build, alternate, median_run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results", "densify.md")
@@ -54,27 +57,43 @@ def main(argv=None) -> int:
     parser.add_argument("--factor", type=int, default=10)
     parser.add_argument("--compare", action="store_true")
     parser.add_argument("--output", default=RESULTS, help="where --compare writes its table (markdown)")
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="--compare: run both this many times in turn and compare the median walls")
     args = parser.parse_args(argv)
     stem, _ = os.path.splitext(args.cache)
     target = densify(args.cache, args.factor, f"{stem}_x{args.factor}.usdc")
     print(f"wrote {target}")
     if not args.compare:
         return 0
-    measured = {}
-    lines = ["# The same motion sampled denser", "",
-             f"`python benchmarks/densify.py {args.cache} --factor {args.factor} --compare`, one run each, end to end, "
-             "2-core shared machine.", "", "| shot | wall (s) | CPU (s) | answer |", "|---|---|---|---|"]
-    for name, shot in (("original", args.cache), ("dense", target)):
+    rounds = max(1, args.rounds)
+    shots = {"original": args.cache, "dense": target}
+
+    def check(shot: str):
         with tempfile.TemporaryDirectory() as out:
             run = Build.current().run("check", shot, "--out", out)
         if run.exit_code not in (0, 1):
             raise RuntimeError(f"usdksl check {shot} exited {run.exit_code}: {run.stderr.strip()[-300:]}")
-        measured[name] = run
+        return run
+
+    runs = alternate({name: (lambda shot=shot: check(shot)) for name, shot in shots.items()}, rounds)
+    how = "one run each" if rounds == 1 else f"{rounds} rounds of both in turn, the run of median wall time of each"
+    command = f"python benchmarks/densify.py {args.cache} --factor {args.factor} --compare" + (
+        f" --rounds {rounds}" if rounds > 1 else "")
+    lines = ["# The same motion sampled denser", "",
+             f"`{command}`, {how}, end to end, 2-core shared machine.", "",
+             "| shot | wall (s) | CPU (s) | answer |", "|---|---|---|---|"]
+    measured = {}
+    for name, shot in shots.items():
+        measured[name] = median_run(runs[name])
+        run = measured[name]
         lines.append(f"| {name} ({os.path.basename(shot)}) | {run.wall_s:.2f} | {run.cpu_s:.2f} | "
                      f"{run.stderr.strip().splitlines()[-1].split(';')[0]} |")
         print(lines[-1], flush=True)
     ratio = measured["dense"].wall_s / measured["original"].wall_s
     lines += ["", f"dense / original (wall): {ratio:.2f} (target: at most {TARGET_RATIO:g})."]
+    if rounds > 1:
+        each = [dense.wall_s / original.wall_s for original, dense in zip(runs["original"], runs["dense"])]
+        lines.append("Each round: " + ", ".join(f"{value:.2f}" for value in each) + ".")
     text = "\n".join(lines) + "\n"
     print(text)
     with open(args.output, "w") as handle:

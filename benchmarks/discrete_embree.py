@@ -12,7 +12,9 @@ start, imports, reading the stage; benchmarks/harness.py ``run`` measures wall a
   precision). It finds what intersects *at* the samples and misses what passes between them.
 
 The printed ratio is check / discrete (wall, the same run); the target of continuous checking is at most
-0.5. Results go to benchmarks/results/discrete_embree.md. The machine is a shared 2-core box: ratios
+0.5. On a shared machine one run of each moves by tenths from run to run; ``--rounds N`` runs the two in
+turn N times per cache (benchmarks/harness.py ``alternate``) and judges the ratio of the median walls,
+printing each round's ratio too. Results go to benchmarks/results/discrete_embree.md. The machine is a shared 2-core box: ratios
 measured in one run are the result, not absolute seconds.
 """
 
@@ -23,7 +25,7 @@ import os
 import sys
 import tempfile
 
-from harness import Build, run
+from harness import Build, alternate, median_run, run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results", "discrete_embree.md")
@@ -49,23 +51,35 @@ def main(argv=None) -> int:
     parser.add_argument("shots", nargs="*")
     parser.add_argument("--frames", metavar="CACHE", help="run the discrete check of CACHE in this process")
     parser.add_argument("--output", default=RESULTS)
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="run check and discrete this many times in turn per cache; compare the median walls")
     args = parser.parse_args(argv)
     if args.frames:
         discrete_frames(args.frames)
         return 0
+    rounds = max(1, args.rounds)
+    how = "one run each" if rounds == 1 else f"{rounds} rounds of both in turn, the run of median wall time of each"
+    command = f"python benchmarks/discrete_embree.py {' '.join(args.shots)}" + (
+        f" --rounds {rounds}" if rounds > 1 else "")
     lines = ["# Continuous check against a per-frame discrete Embree check", "",
-             f"`python benchmarks/discrete_embree.py {' '.join(args.shots)}`, one run each, end to end, "
-             "2-core shared machine; wall seconds (CPU seconds).", "",
+             f"`{command}`, {how}, end to end, 2-core shared machine; wall seconds (CPU seconds).", "",
              "| cache | check | discrete (Embree, every sample) | check / discrete (wall) | check found | "
              "discrete found |", "|---|---|---|---|---|---|"]
     worst = 0.0
+    rounds_seen = []
     for shot in args.shots:
-        with tempfile.TemporaryDirectory() as out:
-            check = Build.current().run("check", shot, "--out", out, "-q")
-        discrete = run([sys.executable, os.path.abspath(__file__), "--frames", shot])
-        if check.exit_code not in (0, 1) or discrete.exit_code != 0:
-            raise RuntimeError(f"{shot}: check exit {check.exit_code}, discrete exit {discrete.exit_code}: "
-                               f"{(check.stderr + discrete.stderr).strip()[-300:]}")
+        def check_run(shot=shot):
+            with tempfile.TemporaryDirectory() as out:
+                return Build.current().run("check", shot, "--out", out, "-q")
+
+        runs = alternate({"check": check_run,
+                          "discrete": lambda shot=shot: run([sys.executable, os.path.abspath(__file__), "--frames",
+                                                             shot])}, rounds)
+        for check, discrete in zip(runs["check"], runs["discrete"]):
+            if check.exit_code not in (0, 1) or discrete.exit_code != 0:
+                raise RuntimeError(f"{shot}: check exit {check.exit_code}, discrete exit {discrete.exit_code}: "
+                                   f"{(check.stderr + discrete.stderr).strip()[-300:]}")
+        check, discrete = median_run(runs["check"]), median_run(runs["discrete"])
         ratio = check.wall_s / discrete.wall_s
         worst = max(worst, ratio)
         with tempfile.TemporaryDirectory() as out:
@@ -75,7 +89,12 @@ def main(argv=None) -> int:
                      f"{discrete.wall_s:.2f} ({discrete.cpu_s:.2f}) | {ratio:.2f} | {found} | "
                      f"{discrete.stdout.strip()} |")
         print(lines[-1], flush=True)
+        if rounds > 1:
+            each = [c.wall_s / d.wall_s for c, d in zip(runs["check"], runs["discrete"])]
+            rounds_seen.append(f"{os.path.basename(shot)}: " + ", ".join(f"{value:.2f}" for value in each))
     lines += ["", f"Largest check / discrete: {worst:.2f} (target: at most {TARGET_RATIO:g})."]
+    if rounds_seen:
+        lines += ["", "Each round's check / discrete:", ""] + [f"- {line}" for line in rounds_seen]
     text = "\n".join(lines) + "\n"
     print(text)
     os.makedirs(os.path.dirname(args.output), exist_ok=True)

@@ -516,6 +516,13 @@ def summarise(measurements: Sequence[Measurement]) -> Summary:
                    min(peaks), statistics.median(peaks))
 
 
+def median_run(runs: Sequence[Measurement]) -> Measurement:
+    """The run of median wall time (the lower middle one of an even count): one whole run, so that its CPU
+    time and output belong together."""
+    ordered = sorted(runs, key=lambda run: run.wall_s)
+    return ordered[(len(ordered) - 1) // 2]
+
+
 def _ratio(a: float, b: float) -> float:
     return a / b if b else float("nan")
 
