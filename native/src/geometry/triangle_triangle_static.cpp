@@ -6,6 +6,7 @@
 #include "usdksl/geometry/exact_geometry.hpp"
 #include "usdksl/geometry/primitive_distance.hpp"
 #include "usdksl/geometry/rounding.hpp"
+#include "usdksl/geometry/triangle_separating_axis.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,10 +30,14 @@ bool triangles_intersect_static(const std::array<Vec3, 3>& a, const std::array<V
         if (a_min[k] > b_max[k] + reach || b_min[k] > a_max[k] + reach) return false;
     }
     // Closed triangles meet iff an edge of one meets the other (the boundary of
-    // the convex intersection lies on their edges).
-    for (int i = 0; i < 3; ++i) {
-        if (segment_intersects_triangle(a[i], a[(i + 1) % 3], b[0], b[1], b[2])) return true;
-        if (segment_intersects_triangle(b[i], b[(i + 1) % 3], a[0], a[1], a[2])) return true;
+    // the convex intersection lies on their edges). A separating axis proves
+    // in floating point that no edge does: nearly coplanar neighbours would
+    // otherwise fall through to exact arithmetic in every test.
+    if (!triangles_apart_along_an_axis(a, b, magnitude)) {
+        for (int i = 0; i < 3; ++i) {
+            if (segment_intersects_triangle(a[i], a[(i + 1) % 3], b[0], b[1], b[2])) return true;
+            if (segment_intersects_triangle(b[i], b[(i + 1) % 3], a[0], a[1], a[2])) return true;
+        }
     }
     if (thickness <= 0.0) return false;
     const double reach_squared = reach * reach;
