@@ -1,6 +1,7 @@
 #include "collinear_merge.hpp"
 
 #include "chord_deviation.hpp"
+#include "finite_sample.hpp"
 #include "shared_breakpoints.hpp"
 
 #include "usdksl/constants.hpp"
@@ -28,12 +29,12 @@ void CollinearMergeWalk::resume(const MeshAnimation& mesh, int32_t v, const int6
 }
 
 void CollinearMergeWalk::begin_run(int64_t anchor) {
-    const Vec3 anchor_point = mesh_->sample_point(anchor, v_);
+    const Vec3 anchor_point = finite_sample_point(*mesh_, anchor, v_);
     run_magnitude_ = point_magnitude(anchor_point);
     window_.reset(*mesh_, anchor, anchor_point);
     k_ = anchor + 1;
     if (k_ < sample_count_) {
-        point_k_ = mesh_->sample_point(k_, v_);
+        point_k_ = finite_sample_point(*mesh_, k_, v_);
         magnitude_k_ = point_magnitude(point_k_);
     }
 }
@@ -52,7 +53,7 @@ bool CollinearMergeWalk::advance() {
         // Drop sample k when every sample since the last kept one lies on
         // the chord from the last kept sample to sample k + 1.
         const int64_t anchor = kept.back();
-        const Vec3 next = mesh.sample_point(k + 1, v);
+        const Vec3 next = finite_sample_point(mesh, k + 1, v);
         const double magnitude_next = point_magnitude(next);
         const double magnitude = std::max({run_magnitude_, magnitude_k_, magnitude_next});
         window_.add(k, point_k_);

@@ -19,7 +19,8 @@ namespace usdksl {
 ///        FLIGHTPLAN_COLLINEAR_TOLERANCE times the largest absolute coordinate
 ///        of those samples (local to the vertex and to that stretch of time:
 ///        one vertex far away, a simulation blow-up, loosens nothing
-///        elsewhere). Where a merge fails the run ends at the sample
+///        elsewhere). Every sample is read, and a coordinate that is not
+///        finite throws std::invalid_argument. Where a merge fails the run ends at the sample
 ///        aligned_run_end() picks with `popularity` (how many vertices keep
 ///        each sample; null: where it failed). A vertex that never moves
 ///        keeps its first sample alone.

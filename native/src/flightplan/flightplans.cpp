@@ -2,6 +2,7 @@
 
 #include "chord_deviation.hpp"
 #include "collinear_merge.hpp"
+#include "finite_sample.hpp"
 #include "shared_breakpoints.hpp"
 
 #include "usdksl/constants.hpp"
@@ -38,20 +39,6 @@ struct Flightplans::VertexRun {
     int64_t first_key = 0;  // index of the run's first breakpoint among the mesh's
 };
 
-namespace {
-
-/// Vertex v's position at sample k of `mesh`; throws std::invalid_argument
-/// when a coordinate is not finite.
-Vec3 finite_sample_point(const MeshAnimation& mesh, int64_t k, int32_t v) {
-    const Vec3 p = mesh.sample_point(k, v);
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-        throw std::invalid_argument("flightplans: non-finite point coordinate");
-    }
-    return p;
-}
-
-} // namespace
-
 void Flightplans::choose_breakpoints(VertexRun& run) {
     const MeshAnimation& mesh = *run.mesh;
     const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
@@ -75,11 +62,6 @@ void Flightplans::choose_breakpoints(VertexRun& run) {
     for (std::vector<int64_t>& lane : kept) lane.reserve(static_cast<size_t>(sample_count));
     for (int32_t first = run.first; first < run.last; first += COLLINEAR_MERGE_LANES) {
         const int32_t count = std::min(COLLINEAR_MERGE_LANES, run.last - first);
-        // Each vertex's samples, a whole sample of the mesh apart: this walk
-        // also brings them into the cache for the merge's walks.
-        for (int32_t v = first; v < first + count; ++v) {
-            for (int64_t k = 0; k < sample_count; ++k) finite_sample_point(mesh, k, v);
-        }
         merge_collinear_samples_of(mesh, first, count, kept, deviation);
         for (int32_t i = 0; i < count; ++i) {
             run.deviation.push_back(deviation[i]);

@@ -68,11 +68,21 @@ TEST(Flightplans, RawPlansMeasureEachVertexOverEverySampleOnAnyThreadCount) {
 }
 
 TEST(Flightplans, ANonFiniteCoordinateIsRefusedMergedOrRaw) {
+    // Anywhere: the first and last samples, one a merge would drop (vertex 3
+    // moves on a straight line), any vertex, any axis.
+    const size_t samples = 25, vertices = 30;
+    const size_t places[][3] = {{24, 29, 2}, {0, 0, 0}, {0, 29, 1}, {12, 3, 1}, {1, 17, 2}, {23, 3, 0}, {24, 0, 0}};
     for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
-        MeshAnimation mesh = random_walk(30, 25, 13, 0.0);
-        mesh.points[(24 * 30 + 29) * 3 + 2] = bad;  // the last vertex at the last sample
-        for (bool merge : {false, true}) {
-            EXPECT_THROW(Flightplans(mesh, merge, 2), std::invalid_argument) << "merge " << merge;
+        for (const auto& place : places) {
+            MeshAnimation mesh = random_walk(static_cast<int>(vertices), static_cast<int>(samples), 13, 0.0);
+            for (size_t k = 0; k < samples; ++k) {
+                for (size_t axis = 0; axis < 3; ++axis) mesh.points[(k * vertices + 3) * 3 + axis] = 0.1 * k * (axis + 1);
+            }
+            mesh.points[(place[0] * vertices + place[1]) * 3 + place[2]] = bad;
+            for (bool merge : {false, true}) {
+                EXPECT_THROW(Flightplans(mesh, merge, 2), std::invalid_argument)
+                    << "merge " << merge << ", sample " << place[0] << ", vertex " << place[1];
+            }
         }
     }
 }
