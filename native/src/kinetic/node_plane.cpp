@@ -48,22 +48,6 @@ NodeHeights heights_from(const StepBoxTree& tree, int32_t node, const Vec3& dire
     return h;
 }
 
-/// Area-weighted mean normal of the triangles under a node at the step's
-/// end, unit; zero when they cancel out.
-Vec3 mean_normal(const StepBoxTree& tree, int32_t node) {
-    const auto [first, last] = tree.triangles_under(node);
-    const std::vector<Triangle>& triangles = tree.triangles();
-    const double* points = tree.end_points();
-    const auto at = [&](int32_t v) { return Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(v)); };
-    Vec3 sum = Vec3::Zero();
-    for (const int32_t* t = first; t != last; ++t) {
-        const Triangle& ids = triangles[static_cast<size_t>(*t)];
-        sum += (at(ids[1]) - at(ids[0])).cross(at(ids[2]) - at(ids[0]));
-    }
-    const double length = sum.norm();
-    return length > 0.0 ? Vec3(sum / length) : Vec3::Zero();
-}
-
 /// True, orienting `normal`, when the vertices under b lie above those under
 /// a along `direction` (or along its opposite) by more than `reach` at both
 /// ends of the step. Given `begin_gap`, b's least height minus a's most along
@@ -123,9 +107,9 @@ double node_pair_reach(const StepBoxTree& tree_a, int32_t a, const StepBoxTree& 
 bool find_node_plane(const StepBoxTree& tree_a, int32_t a, const StepBoxTree& tree_b, int32_t b, double reach,
                      const Vec3& previous, Vec3& normal, double* end_gap, const double* previous_begin_gap) {
     if (separates(tree_a, a, tree_b, b, reach, previous, normal, end_gap, previous_begin_gap)) return true;
-    const Vec3 along_a = mean_normal(tree_a, a);
+    const Vec3& along_a = tree_a.end_mean_normal(a);
     if (separates(tree_a, a, tree_b, b, reach, along_a, normal, end_gap)) return true;
-    const Vec3 along_b = mean_normal(tree_b, b);
+    const Vec3& along_b = tree_b.end_mean_normal(b);
     return along_b.cross(along_a).squaredNorm() > 0.0 &&
            separates(tree_a, a, tree_b, b, reach, along_b, normal, end_gap);
 }

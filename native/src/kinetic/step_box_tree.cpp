@@ -3,6 +3,8 @@
 #include "usdksl/constants.hpp"
 #include "usdksl/single_precision.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -48,6 +50,8 @@ StepBoxTree::StepBoxTree(const Flightplans& plans, const std::vector<Triangle>& 
 void StepBoxTree::index_triangles_under() {
     if (!leaf_first_.empty()) return;
     const int32_t node_count = topology_.node_count();
+    end_mean_normal_.assign(static_cast<size_t>(node_count), Vec3::Zero());
+    end_mean_normal_fit_.assign(static_cast<size_t>(node_count), -1);
     leaf_first_.assign(static_cast<size_t>(node_count), 0);
     leaf_last_.assign(static_cast<size_t>(node_count), 0);
     leaf_triangles_.clear();
@@ -103,6 +107,24 @@ void StepBoxTree::index_triangles_under() {
     node_vertices_.shrink_to_fit();
 }
 
+const Vec3& StepBoxTree::end_mean_normal(int32_t node) const {
+    Vec3& normal = end_mean_normal_[static_cast<size_t>(node)];
+    int64_t& fit = end_mean_normal_fit_[static_cast<size_t>(node)];
+    if (fit == fits_) return normal;
+    const auto [first, last] = triangles_under(node);
+    const double* points = end_points();
+    const auto at = [&](int32_t v) { return Eigen::Map<const Vec3>(points + 3 * static_cast<size_t>(v)); };
+    Vec3 sum = Vec3::Zero();
+    for (const int32_t* t = first; t != last; ++t) {
+        const Triangle& ids = (*triangles_)[static_cast<size_t>(*t)];
+        sum += (at(ids[1]) - at(ids[0])).cross(at(ids[2]) - at(ids[0]));
+    }
+    const double length = sum.norm();
+    normal = length > 0.0 ? Vec3(sum / length) : Vec3::Zero();
+    fit = fits_;
+    return normal;
+}
+
 void StepBoxTree::fit(double t0, double t1) {
     if (still_ && fitted_) return;
     const Flightplans& plans = *plans_;
@@ -121,6 +143,7 @@ void StepBoxTree::fit(double t0, double t1) {
     }
     fitted_ = true;
     fitted_end_ = t1;
+    ++fits_;
     const std::vector<Triangle>& triangles = *triangles_;
     for (int32_t node = topology_.node_count() - 1; node >= 0; --node) {
         StepBox& box = boxes_[node];

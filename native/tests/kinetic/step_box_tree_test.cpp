@@ -10,6 +10,8 @@
 #include "animations.hpp"
 #include "usdksl/kinetic/step_box_tree.hpp"
 
+#include <Eigen/Geometry>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -254,4 +256,43 @@ TEST(StepBoxTree, TwoVerticesUnderALeafMoveApartByAtMostTheShiftsDiagonal) {
         }
     }
     EXPECT_LT(closest, 0.01);
+}
+
+TEST(StepBoxTree, MeanNormalsFollowEveryFitAndStayForAMeshThatNeverMoves) {
+    // A cloth folding over five samples: every node's normal turns from step
+    // to step, and each is asked twice a step (the second answer is kept).
+    const MeshAnimation cloth = animations::folding_cloth(6, 5);
+    const Flightplans plans(cloth, false);
+    StepBoxTree tree(plans, cloth.triangles, cloth.times.front());
+    tree.index_triangles_under();
+    int turned = 0;
+    std::vector<Vec3> before(static_cast<size_t>(tree.topology().node_count()), Vec3::Zero());
+    for (size_t k = 0; k + 1 < cloth.times.size(); ++k) {
+        tree.fit(cloth.times[k], cloth.times[k + 1]);
+        for (int32_t node = 0; node < tree.topology().node_count(); ++node) {
+            Vec3 sum = Vec3::Zero();
+            const auto [first, last] = tree.triangles_under(node);
+            for (const int32_t* t = first; t != last; ++t) {
+                const Triangle& ids = cloth.triangles[static_cast<size_t>(*t)];
+                const auto at = [&](int32_t v) { return plans.position(v, cloth.times[k + 1]); };
+                sum += (at(ids[1]) - at(ids[0])).cross(at(ids[2]) - at(ids[0]));
+            }
+            const Vec3 expected = sum.norm() > 0.0 ? Vec3(sum / sum.norm()) : Vec3::Zero();
+            for (int ask = 0; ask < 2; ++ask) {
+                EXPECT_LT((tree.end_mean_normal(node) - expected).norm(), 1e-12) << "node " << node << ", step " << k;
+            }
+            turned += (tree.end_mean_normal(node) - before[static_cast<size_t>(node)]).norm() > 1e-3;
+            before[static_cast<size_t>(node)] = tree.end_mean_normal(node);
+        }
+    }
+    EXPECT_GT(turned, 3 * tree.topology().node_count()) << "the normals do turn from step to step";
+    const MeshAnimation still = animations::folding_cloth(3, 1);
+    const Flightplans still_plans(still, true);
+    StepBoxTree still_tree(still_plans, still.triangles, 0.0);
+    still_tree.index_triangles_under();
+    still_tree.fit(0.0, 1.0);
+    const Vec3 first = still_tree.end_mean_normal(0);
+    still_tree.fit(3.0, 4.0);
+    EXPECT_EQ(still_tree.end_mean_normal(0), first);
+    EXPECT_NEAR(first.norm(), 1.0, 1e-12);
 }

@@ -145,6 +145,13 @@ public:
         return {all + first, all + last};
     }
 
+    /// @brief Area-weighted mean normal of the triangles under `node` at the
+    ///        fitted step's end, unit; zero when they cancel out. Computed once
+    ///        a fitted step (after index_triangles_under(), which makes room
+    ///        for it: 32 bytes a node): a node is asked once for every node of
+    ///        another mesh it nears.
+    const Vec3& end_mean_normal(int32_t node) const;
+
     /// @brief Triangle ids of the mesh (what topology().triangle indexes).
     const std::vector<Triangle>& triangles() const { return *triangles_; }
 
@@ -175,6 +182,11 @@ private:
     /// triangle repeats a vertex), node after node; node n's run is
     /// [vertices_first_[n], vertices_first_[n + 1]), empty for the others.
     std::vector<int32_t> node_vertices_, vertices_first_;
+    /// end_mean_normal(): per node, the normal and the fit it was computed at
+    /// (fits_ counts the fits that moved the points; -1: none yet).
+    mutable std::vector<Vec3> end_mean_normal_;
+    mutable std::vector<int64_t> end_mean_normal_fit_;
+    int64_t fits_ = 0;
     bool still_;  // no vertex ever moves: the first fit holds for every step
     bool fitted_ = false;
 };
