@@ -22,7 +22,7 @@ import os
 import sys
 import tempfile
 
-from harness import Build, alternate, median_run
+from harness import Build, alternate, median_run, round_ratios, rounds_description
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results", "densify.md")
@@ -76,11 +76,10 @@ def main(argv=None) -> int:
         return run
 
     runs = alternate({name: (lambda shot=shot: check(shot)) for name, shot in shots.items()}, rounds)
-    how = "one run each" if rounds == 1 else f"{rounds} rounds of both in turn, the run of median wall time of each"
     command = f"python benchmarks/densify.py {args.cache} --factor {args.factor} --compare" + (
         f" --rounds {rounds}" if rounds > 1 else "")
     lines = ["# The same motion sampled denser", "",
-             f"`{command}`, {how}, end to end, 2-core shared machine.", "",
+             f"`{command}`, {rounds_description(rounds)}, end to end, 2-core shared machine.", "",
              "| shot | wall (s) | CPU (s) | answer |", "|---|---|---|---|"]
     measured = {}
     for name, shot in shots.items():
@@ -92,8 +91,7 @@ def main(argv=None) -> int:
     ratio = measured["dense"].wall_s / measured["original"].wall_s
     lines += ["", f"dense / original (wall): {ratio:.2f} (target: at most {TARGET_RATIO:g})."]
     if rounds > 1:
-        each = [dense.wall_s / original.wall_s for original, dense in zip(runs["original"], runs["dense"])]
-        lines.append("Each round: " + ", ".join(f"{value:.2f}" for value in each) + ".")
+        lines.append(f"Each round: {round_ratios(runs['dense'], runs['original'])}.")
     text = "\n".join(lines) + "\n"
     print(text)
     with open(args.output, "w") as handle:

@@ -14,8 +14,8 @@ start, imports, reading the stage; benchmarks/harness.py ``run`` measures wall a
 The printed ratio is check / discrete (wall, the same run); the target of continuous checking is at most
 0.5. On a shared machine one run of each moves by tenths from run to run; ``--rounds N`` runs the two in
 turn N times per cache (benchmarks/harness.py ``alternate``) and judges the ratio of the median walls,
-printing each round's ratio too. Results go to benchmarks/results/discrete_embree.md. The machine is a shared 2-core box: ratios
-measured in one run are the result, not absolute seconds.
+printing each round's ratio too. Results go to benchmarks/results/discrete_embree.md. The machine is a
+shared 2-core box: ratios measured in one run are the result, not absolute seconds.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ import re
 import sys
 import tempfile
 
-from harness import Build, alternate, median_run, run
+from harness import Build, alternate, median_run, round_ratios, rounds_description, run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results", "discrete_embree.md")
@@ -80,11 +80,11 @@ def main(argv=None) -> int:
         discrete_frames(args.frames)
         return 0
     rounds = max(1, args.rounds)
-    how = "one run each" if rounds == 1 else f"{rounds} rounds of both in turn, the run of median wall time of each"
     command = f"python benchmarks/discrete_embree.py {' '.join(args.shots)}" + (
         f" --rounds {rounds}" if rounds > 1 else "")
     lines = ["# Continuous check against a per-frame discrete Embree check", "",
-             f"`{command}`, {how}, end to end, 2-core shared machine; wall seconds (CPU seconds).", "",
+             f"`{command}`, {rounds_description(rounds)}, end to end, 2-core shared machine; wall seconds "
+             "(CPU seconds).", "",
              "| cache | check | discrete (Embree, every sample) | check / discrete (wall) | check found | "
              "discrete found |", "|---|---|---|---|---|---|"]
     worst = 0.0
@@ -116,8 +116,7 @@ def main(argv=None) -> int:
         if took and float(took.group(1)) > 0:
             filling_shares.append(float(took.group(2)) / float(took.group(1)))
         if rounds > 1:
-            each = [c.wall_s / d.wall_s for c, d in zip(runs["check"], runs["discrete"])]
-            rounds_seen.append(f"{os.path.basename(shot)}: " + ", ".join(f"{value:.2f}" for value in each))
+            rounds_seen.append(f"{os.path.basename(shot)}: {round_ratios(runs['check'], runs['discrete'])}")
     lines += ["", f"Largest check / discrete: {worst:.2f} (target: at most {TARGET_RATIO:g})."]
     if filling_shares:
         lines += ["", "Filling embreex's triangle meshes (it copies vertices and indices into Embree one element at "

@@ -523,6 +523,17 @@ def median_run(runs: Sequence[Measurement]) -> Measurement:
     return ordered[(len(ordered) - 1) // 2]
 
 
+def rounds_description(rounds: int) -> str:
+    """How a benchmark that runs two commands ``rounds`` times in turn (``alternate``) and keeps each one's
+    ``median_run`` says what its table shows."""
+    return "one run each" if rounds == 1 else f"{rounds} rounds of both in turn, the run of median wall time of each"
+
+
+def round_ratios(numerators: Sequence[Measurement], denominators: Sequence[Measurement]) -> str:
+    """Wall-time ratio of each round of two alternated runs, as a comma-separated list."""
+    return ", ".join(f"{a.wall_s / b.wall_s:.2f}" for a, b in zip(numerators, denominators))
+
+
 def _ratio(a: float, b: float) -> float:
     return a / b if b else float("nan")
 
