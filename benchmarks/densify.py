@@ -3,6 +3,7 @@
     python benchmarks/densify.py benchmarks/caches/newton_tablecloth_f150.usdc --factor 10
     python benchmarks/densify.py CACHE --factor 10 --compare      # also time usdksl check on both, one run each
     python benchmarks/densify.py CACHE --factor 10 --compare --rounds 5   # both in turn, five rounds: medians
+    python benchmarks/densify.py FRAMES --dense SUBSTEPS --rounds 5       # a simulator's sub-frame samples
 
 Writes ``<cache stem>_x<factor>.usdc`` beside the cache: the stage flattened, and every attribute with two or
 more time samples given ``factor - 1`` more between each pair, the values USD itself interpolates there
@@ -13,6 +14,13 @@ counts. The target of continuous checking is a ratio of at most 1.3: the same mo
 same however finely it is sampled. On a shared machine one run of each moves by tenths from run to run;
 ``--rounds N`` runs the two in turn N times (benchmarks/harness.py ``alternate``, so that both see the same
 stretch of load) and judges the ratio of the median walls, printing each round's ratio too.
+
+``--dense SUBSTEPS`` compares against a cache a simulator wrote with its sub-frame samples instead of
+writing in-betweens: ``python benchmarks/record_newton.py twist --every-substep`` writes one run twice,
+``..._sub10.usdc`` (a sample after each of 10 substeps a frame, on the simulator's curves) and
+``..._sub10_frames.usdc`` (its whole frames), the pair to pass as SUBSTEPS and FRAMES. Between frames the
+dense cache moves on curves the frames-only one draws as lines, so the two answers may differ slightly
+(both are printed); the cost target is the same. Its table goes to benchmarks/results/densify_simulator.md.
 """
 
 from __future__ import annotations
@@ -26,6 +34,7 @@ from harness import Build, alternate, median_run, round_ratios, rounds_descripti
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results", "densify.md")
+SIMULATOR_RESULTS = os.path.join(HERE, "results", "densify_simulator.md")
 #: dense / original check time (wall) that continuous checking is held to.
 TARGET_RATIO = 1.3
 
@@ -56,15 +65,24 @@ def main(argv=None) -> int:
     parser.add_argument("cache")
     parser.add_argument("--factor", type=int, default=10)
     parser.add_argument("--compare", action="store_true")
-    parser.add_argument("--output", default=RESULTS, help="where --compare writes its table (markdown)")
+    parser.add_argument("--dense", metavar="SUBSTEPS",
+                        help="compare with this cache of the same motion (a simulator's sub-frame samples) "
+                             "instead of writing in-betweens; implies --compare")
+    parser.add_argument("--output", default=None,
+                        help="where the comparison writes its table (markdown; default "
+                             "benchmarks/results/densify.md, densify_simulator.md with --dense)")
     parser.add_argument("--rounds", type=int, default=1,
                         help="--compare: run both this many times in turn and compare the median walls")
     args = parser.parse_args(argv)
-    stem, _ = os.path.splitext(args.cache)
-    target = densify(args.cache, args.factor, f"{stem}_x{args.factor}.usdc")
-    print(f"wrote {target}")
-    if not args.compare:
-        return 0
+    if args.dense:
+        target = args.dense
+    else:
+        stem, _ = os.path.splitext(args.cache)
+        target = densify(args.cache, args.factor, f"{stem}_x{args.factor}.usdc")
+        print(f"wrote {target}")
+        if not args.compare:
+            return 0
+    output = args.output or (SIMULATOR_RESULTS if args.dense else RESULTS)
     rounds = max(1, args.rounds)
     shots = {"original": args.cache, "dense": target}
 
@@ -76,9 +94,11 @@ def main(argv=None) -> int:
         return run
 
     runs = alternate({name: (lambda shot=shot: check(shot)) for name, shot in shots.items()}, rounds)
-    command = f"python benchmarks/densify.py {args.cache} --factor {args.factor} --compare" + (
-        f" --rounds {rounds}" if rounds > 1 else "")
-    lines = ["# The same motion sampled denser", "",
+    how = f"--dense {args.dense}" if args.dense else f"--factor {args.factor} --compare"
+    command = f"python benchmarks/densify.py {args.cache} {how}" + (f" --rounds {rounds}" if rounds > 1 else "")
+    title = ("# The same simulation with its sub-frame samples" if args.dense
+             else "# The same motion sampled denser")
+    lines = [title, "",
              f"`{command}`, {rounds_description(rounds)}, end to end, 2-core shared machine.", "",
              "| shot | wall (s) | CPU (s) | answer |", "|---|---|---|---|"]
     measured = {}
@@ -94,7 +114,7 @@ def main(argv=None) -> int:
         lines.append(f"Each round: {round_ratios(runs['dense'], runs['original'])}.")
     text = "\n".join(lines) + "\n"
     print(text)
-    with open(args.output, "w") as handle:
+    with open(output, "w") as handle:
         handle.write(text)
     return 0 if ratio <= TARGET_RATIO else 1
 

@@ -6,6 +6,7 @@
     python benchmarks/record_newton.py cards                  # 52 poker cards (~3.6k triangles) x 120 frames
     python benchmarks/record_newton.py shirt                  # ~20k triangles x 150 frames
     python benchmarks/record_newton.py all --scale 0.1 --frames 20      # small versions for a quick run
+    python benchmarks/record_newton.py twist --every-substep  # also a sample at each of its 10 substeps a frame
 
 Each cache is simulated by Newton's VBD solver (`pip install newton warp-lang`; not a project
 dependency) on procedurally built geometry (no downloaded assets), and written with pxr:
@@ -15,6 +16,12 @@ dependency) on procedurally built geometry (no downloaded assets), and written w
 - colliders are Meshes: static ones (Newton body -1, the ground) without samples; rigidly moving ones
   (kinematic Newton bodies) with their shape's local points and a time-sampled translate + orient on a
   parent Xform, the way DCCs write rigid caches.
+
+With ``--every-substep`` one simulation writes two caches: ``<cache>_sub<N>.usdc`` with a sample after each of
+the scene's N substeps (time codes frame + k/N, the sub-frame samples a simulator writes for motion blur;
+the vertices move on the simulator's curves between frames, not on lines) and ``<cache>_sub<N>_frames.usdc``
+with every Nth of them (the whole frames of that same run): the same motion sampled N times denser, for
+``benchmarks/densify.py --dense``.
 
 The Newton/Warp versions, the command line, the scene parameters and the simulation wall time go into
 the layer's ``customLayerData`` (key ``newtonRecording``) and a sidecar ``<cache>.json``. Output goes to
@@ -438,8 +445,10 @@ SCENES = {"tablecloth": scene_tablecloth, "tablecloth_press": scene_tablecloth_p
 
 # --------------------------------------------------------------------------- simulate
 
-def simulate(scene: Scene, frames: int, progress: bool = True):
-    """Run the scene; returns (particle positions float32[frames + 1, P, 3], body poses float64[frames + 1, B, 7])."""
+def simulate(scene: Scene, frames: int, progress: bool = True, every_substep: bool = False):
+    """Run the scene; returns (particle positions float32[S, P, 3], body poses float64[S, B, 7]) at S = frames + 1
+    samples, one a frame, or with ``every_substep`` S = frames * substeps + 1, one after each substep (the
+    frames are every ``substeps``-th of them)."""
     import newton
     import warp as wp
 
@@ -455,13 +464,15 @@ def simulate(scene: Scene, frames: int, progress: bool = True):
     control = model.control()
     frame_dt = 1.0 / FRAMES_PER_SECOND
     dt = frame_dt / scene.substeps
-    positions = np.empty((frames + 1, model.particle_count, 3), np.float32)
-    bodies = np.zeros((frames + 1, max(model.body_count, 1), 7), np.float64)
+    per_frame = scene.substeps if every_substep else 1
+    samples = frames * per_frame + 1
+    positions = np.empty((samples, model.particle_count, 3), np.float32)
+    bodies = np.zeros((samples, max(model.body_count, 1), 7), np.float64)
 
-    def record(frame):
-        positions[frame] = state_0.particle_q.numpy()
+    def record(sample):
+        positions[sample] = state_0.particle_q.numpy()
         if model.body_count:
-            bodies[frame, :model.body_count] = state_0.body_q.numpy()
+            bodies[sample, :model.body_count] = state_0.body_q.numpy()
 
     sim_time = 0.0
     if scene.drive is not None:
@@ -469,7 +480,7 @@ def simulate(scene: Scene, frames: int, progress: bool = True):
     record(0)
     clock = Clock()
     for frame in range(1, frames + 1):
-        for _ in range(scene.substeps):
+        for substep in range(1, scene.substeps + 1):
             if scene.drive is not None:
                 scene.drive(model, state_0, state_1, sim_time)
             state_0.clear_forces()
@@ -477,11 +488,17 @@ def simulate(scene: Scene, frames: int, progress: bool = True):
             solver.step(state_0, state_1, control, contacts, dt)
             state_0, state_1 = state_1, state_0
             sim_time += dt
+            if every_substep and substep < scene.substeps:
+                # Kinematic bodies posed at the sample's time, as at a frame (the next substep poses them alike).
+                if scene.drive is not None:
+                    scene.drive(model, state_0, state_1, sim_time)
+                wp.synchronize()
+                record((frame - 1) * per_frame + substep)
         if scene.drive is not None:
             scene.drive(model, state_0, state_1, sim_time)
         wp.synchronize()
-        record(frame)
-        if not np.all(np.isfinite(positions[frame])):
+        record(frame * per_frame)
+        if not np.all(np.isfinite(positions[(frame - 1) * per_frame + 1: frame * per_frame + 1])):
             raise RuntimeError(f"simulation blew up at frame {frame}")
         if progress and (frame % 10 == 0 or frame == frames):
             elapsed = clock.wall_s()
@@ -491,11 +508,14 @@ def simulate(scene: Scene, frames: int, progress: bool = True):
 
 # --------------------------------------------------------------------------- write USD
 
-def write_cache(path: str, scene: Scene, positions: np.ndarray, bodies: np.ndarray, metadata: Dict) -> None:
-    """Write the recorded frames as a USD cache (see the module docstring); atomically (temp file + rename)."""
+def write_cache(path: str, scene: Scene, positions: np.ndarray, bodies: np.ndarray, metadata: Dict,
+                samples_per_frame: int = 1) -> None:
+    """Write the recorded samples as a USD cache (see the module docstring), sample i at time code
+    i / samples_per_frame; atomically (temp file + rename)."""
     from pxr import Gf, Sdf, Usd, UsdGeom, Vt
 
-    frames = positions.shape[0] - 1
+    frames = (positions.shape[0] - 1) // samples_per_frame
+    time_codes = [sample / samples_per_frame for sample in range(positions.shape[0])]
     temporary = path + ".partial" + os.path.splitext(path)[1]
     if os.path.exists(temporary):
         os.remove(temporary)
@@ -527,8 +547,8 @@ def write_cache(path: str, scene: Scene, positions: np.ndarray, bodies: np.ndarr
         mesh.CreateDoubleSidedAttr(True)
         points = mesh.CreatePointsAttr()
         piece = slice(cloth.first_particle, cloth.first_particle + cloth.particle_count)
-        for frame in range(frames + 1):
-            points.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(positions[frame, piece])), float(frame))
+        for sample, time_code in enumerate(time_codes):
+            points.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(positions[sample, piece])), time_code)
     for collider in scene.colliders:
         define_parents(collider.path)
         if collider.body >= 0:
@@ -536,10 +556,10 @@ def write_cache(path: str, scene: Scene, positions: np.ndarray, bodies: np.ndarr
             xform = UsdGeom.Xform.Define(stage, holder)
             if not xform.GetOrderedXformOps():
                 translate, orient = xform.AddTranslateOp(), xform.AddOrientOp()
-                for frame in range(frames + 1):
-                    px, py, pz, qx, qy, qz, qw = bodies[frame, collider.body]
-                    translate.Set(Gf.Vec3d(px, py, pz), float(frame))
-                    orient.Set(Gf.Quatf(float(qw), float(qx), float(qy), float(qz)), float(frame))
+                for sample, time_code in enumerate(time_codes):
+                    px, py, pz, qx, qy, qz, qw = bodies[sample, collider.body]
+                    translate.Set(Gf.Vec3d(px, py, pz), time_code)
+                    orient.Set(Gf.Quatf(float(qw), float(qx), float(qy), float(qz)), time_code)
         mesh = UsdGeom.Mesh.Define(stage, collider.path)
         mesh.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(collider.points.astype(np.float32)))
         mesh.CreateFaceVertexCountsAttr(Vt.IntArray.FromNumpy(collider.counts.astype(np.int32)))
@@ -561,7 +581,8 @@ def _usd_safe(value):
 
 # --------------------------------------------------------------------------- command line
 
-def record(scene_name: str, frames: Optional[int], scale: float, out_dir: str, argv: List[str]) -> str:
+def record(scene_name: str, frames: Optional[int], scale: float, out_dir: str, argv: List[str],
+           every_substep: bool = False) -> str:
     import newton
     import warp as wp
 
@@ -573,8 +594,9 @@ def record(scene_name: str, frames: Optional[int], scale: float, out_dir: str, a
     path = os.path.join(out_dir, f"newton_{scene_name}{suffix}_f{frames}.usdc")
     triangles = int(sum(len(c.triangles) for c in scene.cloths))
     print(f"{scene_name}: {triangles} cloth triangles in {len(scene.cloths)} pieces, {len(scene.colliders)} "
-          f"colliders, {frames} frames -> {path}", file=sys.stderr, flush=True)
-    simulated = call(simulate, scene, frames)
+          f"colliders, {frames} frames{', a sample every substep' if every_substep else ''} -> {path}",
+          file=sys.stderr, flush=True)
+    simulated = call(simulate, scene, frames, True, every_substep)
     positions, bodies = simulated.value
     simulated_s, simulated_cpu_s = simulated.wall_s, simulated.cpu_s
     metadata = {
@@ -587,11 +609,31 @@ def record(scene_name: str, frames: Optional[int], scale: float, out_dir: str, a
         "recordedAt": time.strftime("%Y-%m-%dT%H:%M:%S"),
     }
     os.makedirs(out_dir, exist_ok=True)
-    write_cache(path, scene, positions, bodies, metadata)
-    with open(os.path.splitext(path)[0] + ".json", "w") as sidecar:
-        json.dump(metadata, sidecar, indent=2)
-    print(f"{path}: {os.path.getsize(path) / 2 ** 20:.1f} MiB, simulated in {simulated_s:.0f} s", file=sys.stderr)
-    return path
+    written = write_recording(path, scene, positions, bodies, metadata, scene.substeps if every_substep else 1)
+    for target in written:
+        print(f"{target}: {os.path.getsize(target) / 2 ** 20:.1f} MiB, simulated in {simulated_s:.0f} s",
+              file=sys.stderr)
+    return written[0]
+
+
+def write_recording(path: str, scene: Scene, positions: np.ndarray, bodies: np.ndarray, metadata: Dict,
+                    samples_per_frame: int = 1) -> List[str]:
+    """Write what simulate() recorded, with a sidecar ``.json`` each, and return the caches written: ``path``
+    when there is a sample a frame; with ``samples_per_frame`` N > 1 (a sample after every substep) the run
+    twice, ``<path stem>_sub<N>.usdc`` with every sample and ``<path stem>_sub<N>_frames.usdc`` with every
+    Nth (its whole frames)."""
+    if samples_per_frame > 1:
+        stem = os.path.splitext(path)[0] + f"_sub{samples_per_frame}"
+        written = [(stem + ".usdc", positions, bodies, samples_per_frame),
+                   (stem + "_frames.usdc", positions[::samples_per_frame], bodies[::samples_per_frame], 1)]
+    else:
+        written = [(path, positions, bodies, 1)]
+    for target, sampled, poses, per_frame in written:
+        described = dict(metadata, samplesPerFrame=per_frame)
+        write_cache(target, scene, sampled, poses, described, per_frame)
+        with open(os.path.splitext(target)[0] + ".json", "w") as sidecar:
+            json.dump(described, sidecar, indent=2)
+    return [target for target, *_ in written]
 
 
 def main(argv=None) -> int:
@@ -602,12 +644,15 @@ def main(argv=None) -> int:
     parser.add_argument("--scale", type=float, default=1.0,
                         help="triangle count factor (cloth resolution; card count for cards)")
     parser.add_argument("--out", default=CACHES, help="output folder (default: benchmarks/caches)")
+    parser.add_argument("--every-substep", action="store_true",
+                        help="also write a sample after every substep (<cache>_sub<N>.usdc) and the same run's "
+                             "whole frames (<cache>_sub<N>_frames.usdc)")
     args = parser.parse_args(argv)
     if args.scale <= 0 or (args.frames is not None and args.frames < 1):
         parser.error("--scale must be positive and --frames at least 1")
     names = sorted(SCENES) if args.scene == "all" else [args.scene]
     for name in names:
-        record(name, args.frames, args.scale, args.out, argv)
+        record(name, args.frames, args.scale, args.out, argv, args.every_substep)
     return 0
 
 
