@@ -49,11 +49,19 @@ std::vector<double> breakpoint_times(const Scene& scene, const std::vector<bool>
         std::vector<bool> kept(samples.size(), false);
         const Flightplans& plans = scene.plans[m];
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
+            // A vertex's breakpoints ascend: each is found from the last one's
+            // sample on, at once when it is the next sample (every sample kept).
+            auto from = samples.begin();
             for (int64_t k = plans.key_begin(v); k < plans.key_end(v); ++k) {
                 const double t = plans.key_time(v, k);
-                const auto it = std::lower_bound(samples.begin(), samples.end(), t);
-                if (it != samples.end() && *it == t) kept[static_cast<size_t>(it - samples.begin())] = true;
-                else if (t > t_begin && t < t_end) times.push_back(t);
+                const auto it = from != samples.end() && *from == t ? from : std::lower_bound(from, samples.end(), t);
+                if (it != samples.end() && *it == t) {
+                    kept[static_cast<size_t>(it - samples.begin())] = true;
+                    from = it + 1;
+                } else {
+                    if (t > t_begin && t < t_end) times.push_back(t);
+                    from = it;
+                }
             }
         }
         for (size_t i = 0; i < samples.size(); ++i) {
@@ -237,6 +245,9 @@ void KineticSeparationLists::measure_travel() {
         std::vector<double> per_step(steps, 0.0);
         const Flightplans& plans = scene_.plans[m];
         for (int32_t v = 0; v < plans.vertex_count(); ++v) {
+            // Segments ascend: each one's first step is searched from the last one's on, and found at
+            // once when it begins at the next step time (every sample kept).
+            size_t from = 0;
             for (int64_t k = plans.key_begin(v); k + 1 < plans.key_end(v); ++k) {
                 const double t0 = plans.key_time(v, k), t1 = plans.key_time(v, k + 1);
                 double moved = 0.0;
@@ -245,11 +256,16 @@ void KineticSeparationLists::measure_travel() {
                 }
                 if (moved == 0.0) continue;
                 const double speed = moved / (t1 - t0);
-                size_t i = static_cast<size_t>(std::upper_bound(times_.begin(), times_.end(), t0) - times_.begin());
-                i = i == 0 ? 0 : i - 1;
+                // The last step time at or before t0 (the first step when none is).
+                size_t i = from;
+                if (!(from < times_.size() && times_[from] <= t0 && (from + 1 == times_.size() || times_[from + 1] > t0))) {
+                    i = static_cast<size_t>(std::upper_bound(times_.begin(), times_.end(), t0) - times_.begin());
+                    i = i == 0 ? 0 : i - 1;
+                }
                 for (; i < steps && times_[i] < t1; ++i) {
                     per_step[i] = std::max(per_step[i], speed * (times_[i + 1] - times_[i]));
                 }
+                from = i;
             }
         }
         std::vector<double>& travel = travel_[m];
