@@ -44,9 +44,10 @@ Method method_named(const std::string& name) {
 /// Python's own repr of each value (floats at the shortest digits that read back the same).
 py::str describe(const CheckOptions& options) {
     return py::str("CheckOptions(method={!r}, t_begin={!r}, t_end={!r}, tolerance={!r}, thickness={!r}, "
-                   "max_iterations={!r}, discrete_substeps={!r}, threads={!r})")
+                   "max_iterations={!r}, discrete_substeps={!r}, threads={!r}, frames_per_time_code={!r})")
         .format(method_name(options.method), options.t_begin, options.t_end, options.ccd.tolerance,
-                options.ccd.thickness, options.ccd.max_iterations, options.discrete_substeps, options.threads);
+                options.ccd.thickness, options.ccd.max_iterations, options.discrete_substeps, options.threads,
+                options.frames_per_time_code);
 }
 
 } // namespace
@@ -59,7 +60,8 @@ void define_check_options(py::module_& m) {
                              "discrete method's substeps and the threads. Fields are read and written by name; "
                              "the progress callback goes to find_contacts beside it.")
         .def(py::init([](const std::string& method, double t_begin, double t_end, double tolerance,
-                         double thickness, int64_t max_iterations, int32_t discrete_substeps, int32_t threads) {
+                         double thickness, int64_t max_iterations, int32_t discrete_substeps, int32_t threads,
+                         double frames_per_time_code) {
                  CheckOptions options;
                  options.method = method_named(method);
                  options.t_begin = t_begin;
@@ -69,12 +71,14 @@ void define_check_options(py::module_& m) {
                  options.ccd.max_iterations = max_iterations;
                  options.discrete_substeps = discrete_substeps;
                  options.threads = threads;
+                 options.frames_per_time_code = frames_per_time_code;
                  return options;
              }),
              py::kw_only(), py::arg("method") = method_name(defaults.method), py::arg("t_begin") = defaults.t_begin,
              py::arg("t_end") = defaults.t_end, py::arg("tolerance") = defaults.ccd.tolerance,
              py::arg("thickness") = defaults.ccd.thickness, py::arg("max_iterations") = defaults.ccd.max_iterations,
-             py::arg("discrete_substeps") = defaults.discrete_substeps, py::arg("threads") = defaults.threads)
+             py::arg("discrete_substeps") = defaults.discrete_substeps, py::arg("threads") = defaults.threads,
+             py::arg("frames_per_time_code") = defaults.frames_per_time_code)
         .def_property(
             "method", [](const CheckOptions& options) { return method_name(options.method); },
             [](CheckOptions& options, const std::string& name) { options.method = method_named(name); },
@@ -96,6 +100,9 @@ void define_check_options(py::module_& m) {
             "Cap on the narrow phase's refinements of one query (reaching it: undecided, counted as a contact).")
         .def_readwrite("discrete_substeps", &CheckOptions::discrete_substeps,
                        "Discrete method only: static tests per step (1 = at samples only).")
+        .def_readwrite("frames_per_time_code", &CheckOptions::frames_per_time_code,
+                       "Frames per time code (the stage's clock; 0: unknown): the event-based and swept methods "
+                       "step over samples between whole frames, with slack; the answer is the same.")
         .def_readwrite("threads", &CheckOptions::threads,
                        "Threads (<= 0: every hardware thread); the answer does not depend on the count.")
         .def(

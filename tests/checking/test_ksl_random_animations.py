@@ -257,3 +257,65 @@ def test_a_whipping_corner_agrees_with_ipctk(seed, ipctk_reference):
     for method in ("brute", "ksl"):
         result = find_contacts(meshes, pairs, method=method, thickness=thickness, threads=1)
         ipctk_reference.assert_agrees(reference, result, meshes, DEFAULT_TOLERANCE, f"{method} (seed {seed}): ")
+
+
+#: Seeds of the scenes written with sub-frame samples, as a simulator writes them for motion blur.
+SUB_FRAME_SEEDS = tuple(range(12))
+#: Frames of those scenes, and the range (low inclusive, high exclusive) of samples per frame.
+SUB_FRAME_FRAMES, SAMPLES_PER_FRAME = 24, (2, 6)
+#: How fast the sub-frame scenes' meshes go through the random scenes' motions (motion time per time code).
+SUB_FRAME_PACES = (0.1, 0.3, 1.0)
+
+
+def sub_frame_scene(seed: int):
+    """Cloth and spinning boxes sampled several times a frame on their curves, some meshes at whole frames
+    only; the cloths sometimes rest, then dash (an impact: a frame the sub-frame samples bend far from
+    its chord)."""
+    rng = np.random.default_rng(2000 + seed)
+    per_frame = int(rng.integers(*SAMPLES_PER_FRAME))
+    dense = np.arange((SUB_FRAME_FRAMES - 1) * per_frame + 1, dtype=np.float64) / per_frame
+    frames = np.arange(SUB_FRAME_FRAMES, dtype=np.float64)
+
+    def slowed(build, times):
+        # The same kinds of motion, most of them slowed down: a frame then bends little, as a
+        # simulator's frames mostly do, and a fast one now and then bends a lot.
+        pace = float(rng.choice(SUB_FRAME_PACES))
+        mesh = build(rng, times * pace)
+        return animated(times, mesh.points, mesh.triangles)
+
+    meshes = [slowed(lambda r, t: cloth(r, t, (4, 9)), dense) for _ in range(int(rng.integers(1, 3)))]
+    meshes += [slowed(spinning_box, dense if rng.random() < 0.7 else frames) for _ in range(int(rng.integers(1, 3)))]
+    if rng.random() < 0.5:
+        meshes.append(still_slab(rng))
+    pairs = [(i, i) for i, mesh in enumerate(meshes) if len(mesh.times) > 1]
+    pairs += [(i, j) for i in range(len(meshes)) for j in range(i + 1, len(meshes))]
+    return meshes, pairs, float(rng.choice(THICKNESSES))
+
+
+@pytest.mark.parametrize("seed", SUB_FRAME_SEEDS)
+def test_stepping_over_sub_frame_samples_gives_brute_force_s_answer(seed):
+    meshes, pairs, thickness = sub_frame_scene(seed)
+    brute = contact_columns(find_contacts(meshes, pairs, method="brute", thickness=thickness))
+    for method, threads in (("ksl", 1), ("ksl", 2), ("swept", 1)):
+        answer = contact_columns(find_contacts(meshes, pairs, method=method, thickness=thickness, threads=threads,
+                                               frames_per_time_code=1.0))
+        missed = set(zip(*brute[1:5])) - set(zip(*answer[1:5]))
+        assert not missed, f"{method} at {threads} threads missed {sorted(missed)[:5]} (seed {seed})"
+        assert answer == brute, f"{method} at {threads} threads differs from brute force (seed {seed})"
+
+
+def test_the_sub_frame_scenes_have_contacts_and_step_over_most_sub_frame_samples():
+    # The comparison above must reach what it is for: contacts, and a core that steps over sub-frame
+    # samples (fewer steps than with every sample a step) while keeping some (the bent frames).
+    with_contacts, steps, raw_steps, kept_some = 0, 0, 0, 0
+    for seed in SUB_FRAME_SEEDS:
+        meshes, pairs, thickness = sub_frame_scene(seed)
+        over = find_contacts(meshes, pairs, method="ksl", thickness=thickness, threads=1, frames_per_time_code=1.0)
+        every = find_contacts(meshes, pairs, method="ksl", thickness=thickness, threads=1)
+        with_contacts += bool(len(over))
+        steps += over.counters["bv_change_events"]
+        raw_steps += every.counters["bv_change_events"]
+        kept_some += over.counters["bv_change_events"] > SUB_FRAME_FRAMES - 1
+    assert with_contacts >= len(SUB_FRAME_SEEDS) * 2 // 3
+    assert steps < raw_steps // 2
+    assert kept_some >= 2

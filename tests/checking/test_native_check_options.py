@@ -12,7 +12,7 @@ from usdksl.checking.collision import METHODS, find_contacts
 
 #: Every field of the bound struct with a value other than its default.
 CHANGED = {"method": "swept", "t_begin": -2.5, "t_end": 7.25, "tolerance": 1e-4, "thickness": 0.125,
-           "max_iterations": 4321, "discrete_substeps": 3, "threads": 2}
+           "max_iterations": 4321, "discrete_substeps": 3, "threads": 2, "frames_per_time_code": 0.5}
 #: The sheets of sheets_passing() start 1 scene unit apart and close at 0.5 per time code: they meet at time 2.
 MEETING_TIME = 2.0
 CLOSING_SPEED = 0.5
@@ -25,7 +25,7 @@ def test_the_struct_has_named_fields_with_the_cores_defaults():
     assert (options.method, options.t_begin, options.t_end) == ("ksl", 0.0, 0.0)
     assert options.tolerance == DEFAULT_TOLERANCE and options.thickness == DEFAULT_THICKNESS
     assert options.max_iterations == DEFAULT_MAX_ITERATIONS
-    assert (options.discrete_substeps, options.threads) == (1, 1)
+    assert (options.discrete_substeps, options.threads, options.frames_per_time_code) == (1, 1, 0.0)
 
 
 def test_fields_are_set_and_read_by_name():

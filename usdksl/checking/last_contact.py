@@ -57,9 +57,11 @@ class LastContacts:
 def last_contacts(meshes: Sequence, pairs: np.ndarray, table: ContactTable, time_range: Optional[TimeRange],
                   method: str, tolerance: float, thickness: float,
                   progress: Optional[Callable[[float, int], None]] = None,
-                  threads: Optional[int] = None, steps_per_window: Optional[int] = None) -> LastContacts:
+                  threads: Optional[int] = None, steps_per_window: Optional[int] = None,
+                  frames_per_time_code: float = 0.0) -> LastContacts:
     """The last contact of every face pair of ``table`` (the first contacts of ``meshes`` over
-    ``time_range`` with the same settings, ``threads`` and ``steps_per_window`` as for them).
+    ``time_range`` with the same settings, ``threads``, ``steps_per_window`` and ``frames_per_time_code``
+    as for them; played backwards, -t is a whole frame where t is).
     ``progress`` receives reversed times (``-t``). With memory windows (usdksl.checking.memory_windows)
     each window is played backwards on its own, the last first, and a face pair's last contact is the
     latest of its windows' (the mirror image of the earliest first contact)."""
@@ -76,7 +78,7 @@ def last_contacts(meshes: Sequence, pairs: np.ndarray, table: ContactTable, time
         # pairs a later window (earlier in reversed time) found have their last contact there
         result = find_contacts(backwards, pairs, method=method, time_range=(-window[1], -window[0]),
                                tolerance=tolerance, thickness=thickness, progress=report, threads=threads,
-                               settled=found_pairs(results))
+                               settled=found_pairs(results), frames_per_time_code=frames_per_time_code)
         results.append(result)
         pieces.append(result.face_contacts(backwards))
         found_before += len(result)

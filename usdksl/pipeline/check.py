@@ -101,7 +101,8 @@ def check_shot(shot: str, options: CheckOptions = CheckOptions(), targets: Optio
             reverse_report = None if not _shown(reverse_bar) else (
                 lambda reached, count, before=contacts_before: reverse_bar(reached, before + count))
             tables.append(check_segment(segment, segment_plan, segment_range, options, report, say, counters,
-                                        reverse_report, planned.steps_per_window))
+                                        reverse_report, planned.steps_per_window,
+                                        planned.clock.frames_per_time_code))
     finally:
         for shown in (bar, reverse_bar):
             if shown is not None and hasattr(shown, "close"):
@@ -191,7 +192,7 @@ def conclude(shot: str, name: str, options: CheckOptions, targets: OutputTargets
     hash being computed (:func:`usdksl.reports.shot_hash.file_sha256_in_background`; None: computed here)."""
     plan = planned.plan
     table, kept = concatenate_pieces(planned.segments, tables)
-    clock = StageClock.from_metadata(planned.segments[0][1].metadata)
+    clock = planned.clock
     regions = concatenate_regions([find_regions(segment.meshes, segment_table, segment.times, options.thickness,
                                                 segment_range, clock.frames_per_time_code)
                                    for (segment_range, segment), segment_table in zip(planned.segments, tables)],
@@ -282,10 +283,12 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
                   say: Optional[Callable[[str, str], None]] = None,
                   counters: Optional[Dict[str, int]] = None,
                   reverse_progress: Optional[Callable[[float, int], None]] = None,
-                  steps_per_window: Optional[int] = None) -> ContactTable:
+                  steps_per_window: Optional[int] = None, frames_per_time_code: float = 0.0) -> ContactTable:
     """Face contacts of one constant-topology stretch (with last contacts when ``options.last_contact``;
     ``reverse_progress`` then follows the backwards run in reversed time), handed to the core in memory
-    windows of ``steps_per_window`` sample steps (None: whole; usdksl.checking.memory_windows). Adds the core's work counters
+    windows of ``steps_per_window`` sample steps (None: whole; usdksl.checking.memory_windows); with the
+    stage's ``frames_per_time_code`` (:attr:`usdksl.clock.StageClock.frames_per_time_code`) the core steps
+    over sub-frame samples (usdksl.checking.collision.find_contacts). Adds the core's work counters
     (and UNDECIDED_COUNTER) to ``counters`` and warns through ``say`` about undecided triangle pairs."""
     paths = [mesh.path for mesh in segment.meshes]
     if not plan.checked_pairs:   # a piece where nothing needs a check still carries the columns of the others
@@ -293,7 +296,8 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
         return empty.with_last_times(np.zeros(0)) if options.last_contact else empty
     result = find_contacts(segment.meshes, plan.pairs, method=options.method, time_range=segment_range,
                            tolerance=options.tolerance, thickness=options.thickness, progress=progress,
-                           threads=options.threads, steps_per_window=steps_per_window)
+                           threads=options.threads, steps_per_window=steps_per_window,
+                           frames_per_time_code=frames_per_time_code)
     undecided = int(np.count_nonzero(result.undecided))
     if counters is not None:
         for name, value in list(result.counters.items()) + [(UNDECIDED_COUNTER, undecided)]:
@@ -308,7 +312,7 @@ def check_segment(segment, plan: Plan, segment_range: Optional[TimeRange], optio
 
     last = last_contacts(segment.meshes, plan.pairs, table, segment_range, options.method, options.tolerance,
                          options.thickness, progress=reverse_progress, threads=options.threads,
-                         steps_per_window=steps_per_window)
+                         steps_per_window=steps_per_window, frames_per_time_code=frames_per_time_code)
     if say is not None and last.missing_in_reverse:
         say(WARNING, f"{last.missing_in_reverse} face pairs were not found played backwards; their last "
                      f"contact is reported at their first")

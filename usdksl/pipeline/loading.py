@@ -3,12 +3,14 @@ and the faults of the loaded motion (blow-ups, cache glitches)."""
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Callable, List, Optional, Sequence
 
 import numpy as np
 
 from ..checking.collision import default_threads
+from ..clock import StageClock
 from ..errors import UsdkslGapError, UsdkslInputError
 from ..reading.blowups import describe_blowups, describe_glitches, shot_faults
 from ..reading.loader import MeshSources, load_sources
@@ -34,6 +36,11 @@ class PlannedShot:
     coverage: Optional[Coverage] = None
     #: Sample steps of the memory windows the core is handed the shot in (usdksl.pipeline.memory_budget).
     steps_per_window: Optional[int] = None
+
+    @functools.cached_property
+    def clock(self) -> StageClock:
+        """The stage's clock (frames, time codes, seconds), read once from its first segment."""
+        return StageClock.from_metadata(self.segments[0][1].metadata)
 
 
 def require_samples_in_range(shot, time_range: Optional[TimeRange], name: str) -> None:

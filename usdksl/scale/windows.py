@@ -148,7 +148,8 @@ def check_window(job: ShotJob, options: CheckOptions, window: TimeRange) -> Wind
         planned = load_and_plan(job.path, options, job.name, lambda *line: None, require_pairs=False)
         say = message_collector(messages)
         tables = [check_segment(segment, plan, segment_range, options, None, say, counters,
-                                steps_per_window=planned.steps_per_window)
+                                steps_per_window=planned.steps_per_window,
+                                frames_per_time_code=planned.clock.frames_per_time_code)
                   for (segment_range, segment), plan in zip(planned.segments, planned.plans)]
     except Exception as error:  # noqa: BLE001  (the merge task then checks the shot whole and reports it)
         if os.environ.get("USDKSL_DEBUG"):

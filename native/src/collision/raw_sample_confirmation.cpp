@@ -27,14 +27,16 @@ void first_raw_contact(TrianglePairTester& raw, const Contact& c, double from, d
             return;
         }
     }
-    while (true) {
-        const PairStep step = raw.step_containing(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, t);
-        if (!step.valid() || step.begin >= t_end) return;
-        // The candidate's own step may come with its test worked out already.
-        const bool carried = c.carried.known && step.begin == c.carried.begin && step.end == c.carried.end;
-        if (carried ? raw.apply_carried(c, step) : raw.test_step(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, step)) return;
+    // The candidate's own step may come with its test worked out already.
+    const PairStep step = raw.step_containing(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, t);
+    if (!step.valid() || step.begin >= t_end) return;
+    if (c.carried.known && step.begin == c.carried.begin && step.end == c.carried.end) {
+        if (raw.apply_carried(c, step)) return;
         t = step.end;
     }
+    // Every later step as test_step would test it, but those a clearance certificate clears skipped: a
+    // candidate that never touches (within its slack only) costs the certificate's steps, not searches.
+    raw.test_steps(c.mesh_a, c.tri_a, c.mesh_b, c.tri_b, t, t_end, true);
 }
 
 /// Candidates confirmed between two progress calls (where a stop request is raised).

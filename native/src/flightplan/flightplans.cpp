@@ -4,6 +4,7 @@
 #include "collinear_merge.hpp"
 #include "finite_sample.hpp"
 #include "shared_breakpoints.hpp"
+#include "sub_frame_samples.hpp"
 
 #include "usdksl/constants.hpp"
 #include "usdksl/run_on_threads.hpp"
@@ -98,6 +99,28 @@ void Flightplans::align_breakpoints(VertexRun& run, const int64_t* popularity) {
     run.kept_samples = std::move(aligned);
 }
 
+void Flightplans::restore_sub_frame_samples(VertexRun& run, const MeshAnimation& mesh,
+                                            const std::vector<int64_t>& sample, double slack) {
+    run.mesh = &mesh;
+    run.merge_deviation = 0.0;
+    std::vector<int32_t> restored;
+    restored.reserve(run.kept_samples.size());
+    std::vector<int64_t> kept;
+    size_t at = 0;  // v's first breakpoint in run.kept_samples
+    for (size_t i = 0; i < run.count.size(); ++i) {
+        const int32_t v = run.first + static_cast<int32_t>(i);
+        kept.clear();
+        for (int64_t j = 0; j < run.count[i]; ++j, ++at) {
+            kept.push_back(sample[static_cast<size_t>(run.kept_samples[at])]);
+        }
+        run.deviation[i] = keep_bent_stretches(mesh, v, slack, kept);
+        run.merge_deviation = std::max(run.merge_deviation, run.deviation[i]);
+        run.count[i] = static_cast<int64_t>(kept.size());
+        for (int64_t k : kept) restored.push_back(static_cast<int32_t>(k));
+    }
+    run.kept_samples = std::move(restored);
+}
+
 void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
     const MeshAnimation& mesh = *run.mesh;
     double* key_times = storage.key_times.get();
@@ -163,6 +186,11 @@ std::vector<std::vector<int64_t>> Flightplans::sample_popularity(const std::vect
 
 std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequest>& requests, int32_t threads) {
     std::vector<VertexRun> runs;
+    // Breakpoints are chosen among the whole frames of a mesh with sub-frame
+    // samples to step over, and its runs then see its every sample again.
+    std::vector<std::unique_ptr<WholeFrameSamples>> frames(requests.size());
+    std::vector<double> slack(requests.size(), 0.0);
+    std::vector<FlightplanRequest> choosing = requests;
     for (size_t r = 0; r < requests.size(); ++r) {
         const MeshAnimation& mesh = *requests[r].mesh;
         const int64_t sample_count = static_cast<int64_t>(mesh.times.size());
@@ -176,6 +204,10 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
                 throw std::invalid_argument("flightplans: sample times must be strictly increasing");
             }
         }
+        if (requests[r].merge_collinear && (frames[r] = whole_frame_samples(mesh, requests[r].frames_per_time_code))) {
+            choosing[r].mesh = &frames[r]->mesh;
+            slack[r] = sub_frame_slack(mesh);
+        }
         // Every vertex's flightplan is its own: runs of vertices are built
         // apart and land in vertex order (the same arrays for any thread count).
         const int64_t samples_total = sample_count * static_cast<int64_t>(n);
@@ -183,7 +215,7 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
             1, std::min<int64_t>(static_cast<int64_t>(n), samples_total / FLIGHTPLAN_SAMPLES_PER_RUN)));
         for (int32_t i = 0; i < run_count; ++i) {
             VertexRun run;
-            run.mesh = &mesh;
+            run.mesh = choosing[r].mesh;
             run.merge_collinear = requests[r].merge_collinear;
             run.plans = static_cast<int32_t>(r);
             run.first = static_cast<int32_t>(static_cast<int64_t>(n) * i / run_count);
@@ -193,10 +225,12 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
     }
     const int32_t run_total = static_cast<int32_t>(runs.size());
     parallel_for(std::max(threads, 1), run_total, [&](int32_t i) { choose_breakpoints(runs[static_cast<size_t>(i)]); });
-    const std::vector<std::vector<int64_t>> popularity = sample_popularity(requests, runs);
+    const std::vector<std::vector<int64_t>> popularity = sample_popularity(choosing, runs);
     parallel_for(std::max(threads, 1), run_total, [&](int32_t i) {
         VertexRun& run = runs[static_cast<size_t>(i)];
         align_breakpoints(run, popularity[static_cast<size_t>(run.plans)].data());
+        const size_t r = static_cast<size_t>(run.plans);
+        if (frames[r]) restore_sub_frame_samples(run, *requests[r].mesh, frames[r]->sample, slack[r]);
     });
 
     std::vector<int64_t> keys(requests.size(), 0);  // breakpoints per mesh

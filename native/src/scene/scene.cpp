@@ -16,12 +16,18 @@ std::vector<FlightplanKind> uniform_kinds(size_t count, bool merge_collinear) {
 Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear, int32_t threads)
     : Scene(meshes_in, uniform_kinds(meshes_in.size(), merge_collinear), threads) {}
 
-Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<FlightplanKind>& kinds, int32_t threads)
+Scene::Scene(const std::vector<MeshAnimation>& meshes_in, double frames_per_time_code, int32_t threads)
+    : Scene(meshes_in, uniform_kinds(meshes_in.size(), true), threads, frames_per_time_code) {}
+
+Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<FlightplanKind>& kinds, int32_t threads,
+             double frames_per_time_code)
     : meshes(meshes_in) {
     if (kinds.size() != meshes.size()) throw std::invalid_argument("scene: one flightplan kind per mesh");
     std::vector<FlightplanRequest> requests;
     for (size_t m = 0; m < meshes.size(); ++m) {
-        if (kinds[m] != FlightplanKind::Unused) requests.push_back({&meshes[m], kinds[m] == FlightplanKind::MergedSamples});
+        if (kinds[m] == FlightplanKind::Unused) continue;
+        const bool merging = kinds[m] == FlightplanKind::MergedSamples;
+        requests.push_back({&meshes[m], merging, merging ? frames_per_time_code : 0.0});
     }
     std::vector<Flightplans> built = Flightplans::build_all(requests, threads);
     plans.resize(meshes.size());

@@ -18,6 +18,14 @@ struct FlightplanRequest {
     const MeshAnimation* mesh = nullptr;
     /// @brief See Flightplans(mesh, merge_collinear, threads).
     bool merge_collinear = false;
+    /// @brief Merging, when above 0 (frames per time code, the stage's
+    ///        clock): each sample between two whole frames (a simulator's
+    ///        sub-frame samples; whole_frame_samples()) is dropped whatever its
+    ///        distance from the flightplan, which counts in its vertex's
+    ///        deviation as any dropped sample's does (the slack its contacts
+    ///        are searched with before the raw samples confirm them); the
+    ///        whole frames merge as they would alone.
+    double frames_per_time_code = 0.0;
 };
 
 /// @brief The flightplans of every vertex of one mesh. Each vertex keeps its
@@ -155,6 +163,14 @@ private:
     /// Merging again, each vertex whose breaks are not where the others
     /// break (shared_breakpoints.hpp), `popularity` indexed by the mesh's samples.
     static void align_breakpoints(VertexRun& run, const int64_t* popularity);
+    /// For a run whose breakpoints were chosen among `mesh`'s whole frames
+    /// alone (`sample`: each one's index among mesh's samples): the
+    /// breakpoints as indices of mesh's samples, with the samples of every
+    /// stretch that lies farther than `slack` from them added back
+    /// (keep_bent_stretches), and each vertex's deviation from every sample
+    /// of mesh left out, its sub-frame ones included.
+    static void restore_sub_frame_samples(VertexRun& run, const MeshAnimation& mesh,
+                                          const std::vector<int64_t>& sample, double slack);
     struct Storage;
     /// Writes the run's breakpoints, offsets and vertex magnitudes into the
     /// mesh's arrays, from its first breakpoint on.

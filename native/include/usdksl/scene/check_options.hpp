@@ -37,6 +37,12 @@ struct CheckOptions {
     CCDSettings ccd;
     /// @brief Discrete method only: static tests per step (1 = at samples only).
     int32_t discrete_substeps = 1;
+    /// @brief Frames per time code (the stage's clock; <= 0: unknown). Merged
+    ///        flightplans step over the samples between whole frames (a
+    ///        simulator's sub-frame samples), their distance from the frames'
+    ///        chords counted as slack; the raw samples confirm every contact,
+    ///        so the answer is the same as without.
+    double frames_per_time_code = 0.0;
     /// @brief Threads to use (<= 0: every hardware thread). The range is split
     ///        into time windows checked in parallel; the contacts are the same
     ///        bit for bit whatever the count.

@@ -33,9 +33,16 @@ struct Scene {
     ///        when asked, on up to `threads` threads.
     Scene(const std::vector<MeshAnimation>& meshes, bool merge_collinear, int32_t threads = 1);
 
+    /// @brief Merging flightplans for every mesh that step over the samples
+    ///        between whole frames too (FlightplanRequest::frames_per_time_code),
+    ///        on up to `threads` threads.
+    Scene(const std::vector<MeshAnimation>& meshes, double frames_per_time_code, int32_t threads);
+
     /// @brief Builds flightplans of the given kind per mesh (kinds.size() ==
-    ///        meshes.size()), on up to `threads` threads.
-    Scene(const std::vector<MeshAnimation>& meshes, const std::vector<FlightplanKind>& kinds, int32_t threads = 1);
+    ///        meshes.size()), on up to `threads` threads; merging ones step
+    ///        over sub-frame samples when `frames_per_time_code` is above 0.
+    Scene(const std::vector<MeshAnimation>& meshes, const std::vector<FlightplanKind>& kinds, int32_t threads = 1,
+          double frames_per_time_code = 0.0);
 
     const std::vector<MeshAnimation>& meshes;
     std::vector<Flightplans> plans;
