@@ -107,27 +107,38 @@ def still_slab(rng):
     return animated([0.0], [verts], tris)
 
 
+def checked_pairs(meshes):
+    """Every moving mesh against itself, and every pair of meshes with one moving."""
+    pairs = [(i, i) for i, mesh in enumerate(meshes) if len(mesh.times) > 1]
+    pairs += [(i, j) for i in range(len(meshes)) for j in range(i + 1, len(meshes))
+              if len(meshes[i].times) > 1 or len(meshes[j].times) > 1]
+    return pairs
+
+
 def random_scene(seed: int, thicknesses=THICKNESSES, cloth_cells=CLOTH_CELLS):
     rng = np.random.default_rng(seed)
     meshes = [cloth(rng, sample_times(rng), cloth_cells) for _ in range(int(rng.integers(1, 3)))]
     meshes += [spinning_box(rng, sample_times(rng)) for _ in range(int(rng.integers(0, 3)))]
     if rng.random() < 0.5:
         meshes.append(still_slab(rng))
-    pairs = [(i, i) for i, mesh in enumerate(meshes) if len(mesh.times) > 1]
-    pairs += [(i, j) for i in range(len(meshes)) for j in range(i + 1, len(meshes))
-              if len(meshes[i].times) > 1 or len(meshes[j].times) > 1]
-    return meshes, pairs, float(rng.choice(thicknesses))
+    return meshes, checked_pairs(meshes), float(rng.choice(thicknesses))
+
+
+def assert_every_method_gives_brute_force_s_answer(meshes, pairs, thickness, seed, **options):
+    """ksl at one and two threads and swept (with ``options``) give brute force's answer bit for bit."""
+    brute = contact_columns(find_contacts(meshes, pairs, method="brute", thickness=thickness))
+    for method, threads in (("ksl", 1), ("ksl", 2), ("swept", 1)):
+        answer = contact_columns(find_contacts(meshes, pairs, method=method, thickness=thickness, threads=threads,
+                                               **options))
+        missed = set(zip(*brute[1:5])) - set(zip(*answer[1:5]))
+        assert not missed, f"{method} at {threads} threads missed {sorted(missed)[:5]} (seed {seed})"
+        assert answer == brute, f"{method} at {threads} threads differs from brute force (seed {seed})"
 
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_kinetic_lists_equal_brute_force_on_random_animations(seed):
     meshes, pairs, thickness = random_scene(seed)
-    brute = contact_columns(find_contacts(meshes, pairs, method="brute", thickness=thickness))
-    for method, threads in (("ksl", 1), ("ksl", 2), ("swept", 1)):
-        answer = contact_columns(find_contacts(meshes, pairs, method=method, thickness=thickness, threads=threads))
-        missed = set(zip(*brute[1:5])) - set(zip(*answer[1:5]))
-        assert not missed, f"{method} at {threads} threads missed {sorted(missed)[:5]} (seed {seed})"
-        assert answer == brute, f"{method} at {threads} threads differs from brute force (seed {seed})"
+    assert_every_method_gives_brute_force_s_answer(meshes, pairs, thickness, seed)
 
 
 #: Thicknesses of the graze scenes, and the seeds among them where a pair grazes at the thickness across a
@@ -287,21 +298,13 @@ def sub_frame_scene(seed: int):
     meshes += [slowed(spinning_box, dense if rng.random() < 0.7 else frames) for _ in range(int(rng.integers(1, 3)))]
     if rng.random() < 0.5:
         meshes.append(still_slab(rng))
-    pairs = [(i, i) for i, mesh in enumerate(meshes) if len(mesh.times) > 1]
-    pairs += [(i, j) for i in range(len(meshes)) for j in range(i + 1, len(meshes))]
-    return meshes, pairs, float(rng.choice(THICKNESSES))
+    return meshes, checked_pairs(meshes), float(rng.choice(THICKNESSES))
 
 
 @pytest.mark.parametrize("seed", SUB_FRAME_SEEDS)
 def test_stepping_over_sub_frame_samples_gives_brute_force_s_answer(seed):
     meshes, pairs, thickness = sub_frame_scene(seed)
-    brute = contact_columns(find_contacts(meshes, pairs, method="brute", thickness=thickness))
-    for method, threads in (("ksl", 1), ("ksl", 2), ("swept", 1)):
-        answer = contact_columns(find_contacts(meshes, pairs, method=method, thickness=thickness, threads=threads,
-                                               frames_per_time_code=1.0))
-        missed = set(zip(*brute[1:5])) - set(zip(*answer[1:5]))
-        assert not missed, f"{method} at {threads} threads missed {sorted(missed)[:5]} (seed {seed})"
-        assert answer == brute, f"{method} at {threads} threads differs from brute force (seed {seed})"
+    assert_every_method_gives_brute_force_s_answer(meshes, pairs, thickness, seed, frames_per_time_code=1.0)
 
 
 def test_the_sub_frame_scenes_have_contacts_and_step_over_most_sub_frame_samples():
