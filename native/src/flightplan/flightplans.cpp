@@ -8,6 +8,7 @@
 
 #include "usdksl/constants.hpp"
 #include "usdksl/run_on_threads.hpp"
+#include "usdksl/single_precision.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +33,9 @@ struct Flightplans::VertexRun {
     std::vector<int32_t> kept_samples;
     std::vector<int64_t> count;  // breakpoints per vertex
     std::vector<double> deviation;  // merging: per vertex, of its dropped samples from its flightplan (scene units)
+    /// Stepping over sub-frame samples: per breakpoint (as kept_samples), of the samples after it up to
+    /// the next (scene units, rounded up to single precision).
+    std::vector<float> key_deviation;
     /// Without merging: per vertex, the largest absolute coordinate over its samples (scene units).
     std::vector<double> magnitude;
     /// Merging, between the passes: how many of the run's vertices keep each sample of the mesh.
@@ -105,7 +109,9 @@ void Flightplans::restore_sub_frame_samples(VertexRun& run, const MeshAnimation&
     run.merge_deviation = 0.0;
     std::vector<int32_t> restored;
     restored.reserve(run.kept_samples.size());
+    run.key_deviation.clear();
     std::vector<int64_t> kept;
+    std::vector<double> segment_deviation;
     size_t at = 0;  // v's first breakpoint in run.kept_samples
     for (size_t i = 0; i < run.count.size(); ++i) {
         const int32_t v = run.first + static_cast<int32_t>(i);
@@ -113,10 +119,11 @@ void Flightplans::restore_sub_frame_samples(VertexRun& run, const MeshAnimation&
         for (int64_t j = 0; j < run.count[i]; ++j, ++at) {
             kept.push_back(sample[static_cast<size_t>(run.kept_samples[at])]);
         }
-        run.deviation[i] = keep_bent_stretches(mesh, v, slack, kept);
+        run.deviation[i] = keep_bent_stretches(mesh, v, slack, kept, &segment_deviation);
         run.merge_deviation = std::max(run.merge_deviation, run.deviation[i]);
         run.count[i] = static_cast<int64_t>(kept.size());
         for (int64_t k : kept) restored.push_back(static_cast<int32_t>(k));
+        for (double d : segment_deviation) run.key_deviation.push_back(float_at_least(d));
     }
     run.kept_samples = std::move(restored);
 }
@@ -137,6 +144,7 @@ void Flightplans::write_breakpoints(const VertexRun& run, Storage& storage) {
         }
         double magnitude = 0.0;
         for (int64_t i = 0; i < count; ++i, ++key) {
+            if (!run.key_deviation.empty()) storage.key_deviation[static_cast<size_t>(key)] = run.key_deviation[kept_index];
             const int64_t k = run.kept_samples[kept_index++];
             const Vec3 p = mesh.sample_point(k, v);
             key_times[key] = mesh.times[static_cast<size_t>(k)];
@@ -250,6 +258,7 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
             storage.key_times = make_uninitialized_huge_array<double>(total);
             storage.key_points = make_uninitialized_huge_array<double>(3 * total);
         }
+        if (frames[r]) storage.key_deviation.resize(total);
         storage.vertex_magnitude.resize(n);
     }
     parallel_for(std::max(threads, 1), run_total, [&](int32_t i) {
@@ -284,6 +293,7 @@ std::vector<Flightplans> Flightplans::build_all(const std::vector<FlightplanRequ
         }
         plans.vertex_magnitude_ = storage.vertex_magnitude.data();
         plans.vertex_deviation_ = storage.vertex_deviation.empty() ? nullptr : storage.vertex_deviation.data();
+        plans.key_deviation_ = storage.key_deviation.empty() ? nullptr : storage.key_deviation.data();
         plans.storage_ = std::move(storages[r]);
     }
     return built;

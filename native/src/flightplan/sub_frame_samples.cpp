@@ -75,16 +75,23 @@ double sub_frame_slack(const MeshAnimation& mesh) {
     return SUB_FRAME_SLACK_PER_EDGE * *middle;
 }
 
-double keep_bent_stretches(const MeshAnimation& mesh, int32_t v, double slack, std::vector<int64_t>& kept) {
+double keep_bent_stretches(const MeshAnimation& mesh, int32_t v, double slack, std::vector<int64_t>& kept,
+                           std::vector<double>* segment_deviation) {
     const int64_t count = static_cast<int64_t>(mesh.times.size());
     std::vector<int64_t> out;
     out.reserve(kept.size());
+    std::vector<double> deviations;  // per breakpoint in out: of the samples after it
     double worst = 0.0;
     const auto stretch = [&](int64_t from, int64_t to, double farthest) {  // samples (from, to) between breakpoints
         if (farthest > slack) {
-            for (int64_t j = from + 1; j < to; ++j) out.push_back(j);
+            for (int64_t j = from + 1; j < to; ++j) {
+                deviations.push_back(0.0);
+                out.push_back(j);
+            }
+            deviations.push_back(0.0);
         } else {
             worst = std::max(worst, farthest);
+            deviations.push_back(farthest);
         }
     };
     for (size_t i = 0; i < kept.size(); ++i) {
@@ -102,12 +109,9 @@ double keep_bent_stretches(const MeshAnimation& mesh, int32_t v, double slack, s
     const Vec3 held = mesh.sample_point(kept.back(), v);
     double farthest = 0.0;
     for (int64_t j = kept.back() + 1; j < count; ++j) farthest = std::max(farthest, point_magnitude(finite_sample_point(mesh, j, v) - held));
-    if (farthest > slack) {
-        for (int64_t j = kept.back() + 1; j < count; ++j) out.push_back(j);
-    } else {
-        worst = std::max(worst, farthest);
-    }
+    stretch(kept.back(), count, farthest);
     kept = std::move(out);
+    if (segment_deviation) *segment_deviation = std::move(deviations);
     return worst;
 }
 

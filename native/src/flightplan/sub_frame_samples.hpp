@@ -59,8 +59,12 @@ std::unique_ptr<WholeFrameSamples> whole_frame_samples(const MeshAnimation& mesh
 ///        holds still) that lies farther than `slack` (scene units, infinity
 ///        norm) from the flightplan added back. Throws std::invalid_argument
 ///        for a coordinate that is not finite.
+///        `segment_deviation`, when given, gets for each breakpoint left in
+///        `kept` the largest such distance of the samples after it up to the
+///        next one (or to the last sample).
 /// @return The largest distance (infinity norm, scene units) of a sample
 ///         left out from the flightplan: at most `slack`.
-double keep_bent_stretches(const MeshAnimation& mesh, int32_t v, double slack, std::vector<int64_t>& kept);
+double keep_bent_stretches(const MeshAnimation& mesh, int32_t v, double slack, std::vector<int64_t>& kept,
+                           std::vector<double>* segment_deviation = nullptr);
 
 } // namespace usdksl

@@ -107,11 +107,12 @@ bool TrianglePairTester::test_step(int32_t mesh_a, int32_t tri_a, int32_t mesh_b
 bool TrianglePairTester::test_positions(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b,
                                         const PairStep& step, const std::array<Vec3, 3>& a0,
                                         const std::array<Vec3, 3>& a1, const std::array<Vec3, 3>& b0,
-                                        const std::array<Vec3, 3>& b1, bool raw_positions) {
+                                        const std::array<Vec3, 3>& b1, bool raw_positions, double contact_distance) {
     ++counters_.narrow_phase_tests;
     const MovingTriangle a{scene_.meshes[mesh_a].triangles[tri_a], a0, a1};
     const MovingTriangle b{scene_.meshes[mesh_b].triangles[tri_b], b0, b1};
-    const CCDSettings settings = settings_for(mesh_a, tri_a, mesh_b, tri_b);
+    CCDSettings settings = settings_for(mesh_a, tri_a, mesh_b, tri_b);
+    if (!std::isnan(contact_distance)) settings.thickness = contact_distance;
     // The raw-sample confirmation tests this very step with these positions
     // at the user's thickness: only then is its answer worked out here.
     FinerReplay* replay = finer_ && raw_positions && settings.thickness == settings_.thickness
@@ -210,7 +211,10 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         }
         return result;
     };
-    const double contact_distance = settings_for(mesh_a, tri_a, mesh_b, tri_b).thickness;
+    const double pair_distance = settings_for(mesh_a, tri_a, mesh_b, tri_b).thickness;
+    // Where sub-frame samples were stepped over, each step has its vertices' own slack, mostly far below
+    // the largest over the range (an impact's frame).
+    const bool per_segment = plans[0]->deviation_per_segment() || plans[3]->deviation_per_segment();
     const double size_fraction = clearance_size_fraction(settings_.tolerance);
     double magnitude = -1.0;
     const auto pair_magnitude = [&]() {  // no coordinate of the six vertices exceeds it
@@ -263,6 +267,20 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
             finish = p.position_in_segment(vertex[i], at_end, end);
         }
         positions_end = end;
+        double contact_distance = pair_distance;
+        if (per_segment) {
+            double deviation[2] = {0.0, 0.0};
+            for (int i = 0; i < 6; ++i) {
+                if (segment_time[i] <= begin)
+                    deviation[i / 3] = std::max(deviation[i / 3], plans[i]->segment_deviation(vertex[i], segment[i]));
+            }
+            contact_distance = settings_.thickness + MERGE_DEVIATION_TO_DISTANCE * (deviation[0] + deviation[1]);
+            // A certificate proven for less slack than this step has ran out.
+            if (certified && contact_distance > clearance.contact_distance()) {
+                certified = false;
+                wait = 0;
+            }
+        }
         bool cleared = false;
         const auto start_certificate = [&]() {
             clearance.start(ids_a, a0, ids_b, b0, mesh_a == mesh_b, contact_distance, settings_.tolerance,
@@ -302,7 +320,7 @@ StepRun TrianglePairTester::test_steps(int32_t mesh_a, int32_t tri_a, int32_t me
         } else if (begin >= until) {
             return done({begin, false});  // covering ahead stops before a step that needs the narrow phase
         } else if (test_positions(mesh_a, tri_a, mesh_b, tri_b, PairStep{begin, end}, a0, a1, b0, b1,
-                                  raw_positions)) {
+                                  raw_positions, per_segment ? contact_distance : std::numeric_limits<double>::quiet_NaN())) {
             return done({end, true});
         }
         if (end >= until && (!cleared || end >= ahead_until)) return done({end, false});

@@ -9,9 +9,11 @@
 #include "../../src/flightplan/sub_frame_samples.hpp"
 
 #include "usdksl/flightplan/flightplans.hpp"
+#include "usdksl/single_precision.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -102,10 +104,16 @@ TEST(SubFrameSamples, ABentStretchKeepsItsSamplesAndTheOthersStayWithinTheSlack)
     mesh.points[3 * 9] += 0.5;  // sample 9 (t = 2.25) far off: frame 2..3 bends
     std::vector<int64_t> kept{0, 4, 8, 12, 16};
     const double slack = 0.01;
-    const double deviation = keep_bent_stretches(mesh, 0, slack, kept);
+    std::vector<double> per_segment;
+    const double deviation = keep_bent_stretches(mesh, 0, slack, kept, &per_segment);
     EXPECT_EQ(kept, (std::vector<int64_t>{0, 4, 8, 9, 10, 11, 12, 16}));
     EXPECT_GT(deviation, 0.0);
     EXPECT_LE(deviation, slack);
+    // Per breakpoint: its segment's own distance; the bent frame's samples are breakpoints (none left out).
+    ASSERT_EQ(per_segment.size(), kept.size());
+    for (size_t i : {2, 3, 4, 5}) EXPECT_EQ(per_segment[i], 0.0) << "breakpoint " << i;
+    EXPECT_GT(per_segment[0], 0.0);
+    EXPECT_EQ(*std::max_element(per_segment.begin(), per_segment.end()), deviation);
     // Held still after its last breakpoint, a vertex that moves there keeps those samples too.
     std::vector<int64_t> first_only{0};
     EXPECT_EQ(keep_bent_stretches(curve(times, 0.3), 0, 10.0, first_only), 4.0);  // y = t, held at 0
@@ -126,7 +134,7 @@ TEST(SubFrameSamples, MergedFlightplansStepOverSubFrameSamplesWithinTheirVertice
     const Flightplans over = std::move(Flightplans::build_all({FlightplanRequest{&mesh, true, 1.0}}, 2).front());
     const Flightplans every = std::move(Flightplans::build_all({FlightplanRequest{&mesh, true, 0.0}}, 2).front());
     EXPECT_TRUE(over.merged());
-    int64_t keys_over = 0, keys_every = 0;
+    int64_t keys_over = 0, keys_every = 0, below_vertex = 0;
     bool some_bent = false;
     for (int32_t v = 0; v < mesh.vertex_count; ++v) {
         keys_over += over.key_end(v) - over.key_begin(v);
@@ -136,12 +144,23 @@ TEST(SubFrameSamples, MergedFlightplansStepOverSubFrameSamplesWithinTheirVertice
             const double frame = over.key_time(v, k);
             some_bent = some_bent || frame != std::round(frame);
         }
-        // Every sample lies within the vertex's deviation of its flightplan (the slack its contacts get).
+        // Every sample lies within its segment's deviation of the flightplan (the slack its contacts get on
+        // that segment's steps), and so within the vertex's.
         for (size_t k = 0; k < mesh.times.size(); ++k) {
-            const Vec3 off = over.position(v, mesh.times[k]) - sample(mesh, static_cast<int64_t>(k), v);
-            EXPECT_LE(off.cwiseAbs().maxCoeff(), over.vertex_deviation(v)) << "vertex " << v << ", sample " << k;
+            const double t = mesh.times[k];
+            const double off = (over.position(v, t) - sample(mesh, static_cast<int64_t>(k), v)).cwiseAbs().maxCoeff();
+            int64_t segment = over.segment_of(v, t);
+            // A sample on a breakpoint closes the segment before it too.
+            if (segment > over.key_begin(v) && over.key_time(v, segment) == t) --segment;
+            EXPECT_LE(off, over.segment_deviation(v, segment)) << "vertex " << v << ", sample " << k;
+            // Kept in single precision, rounded up.
+            const double vertex_bound = usdksl::float_at_least(over.vertex_deviation(v));
+            EXPECT_LE(over.segment_deviation(v, segment), vertex_bound);
+            below_vertex += over.segment_deviation(v, segment) < vertex_bound;
         }
     }
+    EXPECT_TRUE(over.deviation_per_segment());
+    EXPECT_GT(below_vertex, 0);            // segments of the same vertex bend differently
     EXPECT_LT(2 * keys_over, keys_every);  // most sub-frame samples are stepped over
     EXPECT_TRUE(some_bent);                // the corner's jump keeps its frame's samples
 

@@ -145,6 +145,19 @@ public:
     ///        dropped samples lies off its merged flightplan.
     double vertex_deviation(int32_t v) const { return vertex_deviation_ ? vertex_deviation_[v] : 0.0; }
 
+    /// @brief The largest distance (infinity norm, scene units) of v's
+    ///        dropped samples on its segment k (from breakpoint k to the next,
+    ///        or on after the last) from the flightplan: known per segment
+    ///        where sub-frame samples were stepped over
+    ///        (FlightplanRequest::frames_per_time_code), else
+    ///        vertex_deviation(v). Never less than the truth.
+    double segment_deviation(int32_t v, int64_t k) const {
+        return key_deviation_ ? static_cast<double>(key_deviation_[k]) : vertex_deviation(v);
+    }
+
+    /// @brief True when segment_deviation() is known per segment.
+    bool deviation_per_segment() const { return key_deviation_ != nullptr; }
+
     /// @brief True when some sample was dropped, so steps between breakpoints
     ///        may span several sample intervals.
     bool merged() const { return merged_; }
@@ -188,6 +201,8 @@ private:
         std::vector<double> vertex_magnitude;
         /// Per vertex, kept only when some vertex deviates.
         std::vector<double> vertex_deviation;
+        /// Per breakpoint, kept only when sub-frame samples were stepped over.
+        std::vector<float> key_deviation;
     };
     std::shared_ptr<const Storage> storage_;
     /// Flightplans that keep every sample: the mesh whose times and points
@@ -201,6 +216,7 @@ private:
     const double* key_points_ = nullptr;
     const double* vertex_magnitude_ = nullptr;
     const double* vertex_deviation_ = nullptr;
+    const float* key_deviation_ = nullptr;
     /// Last segment found per vertex: queries mostly move forward in time, so
     /// the answer is usually this segment or the next (a cache, not state;
     /// each copy has its own, so copies may be used from different threads).

@@ -133,6 +133,9 @@ public:
     ///        closed triangles then neither touch nor pierce each other.
     bool separated_by_plane() const { return plane_holds_; }
 
+    /// @brief The contact distance (scene units) the certificate was started for.
+    double contact_distance() const { return contact_distance_; }
+
 private:
     /// Contact distance plus the narrow phase's margin for the six vertices'
     /// size (their box diagonal at the start, grown by what the drift so far

@@ -127,10 +127,12 @@ private:
     /// positions at its ends; records and returns true on contact.
     /// `raw_positions`: every position is its vertex's raw sample, as the
     /// raw-sample confirmation reads it (then a contact may carry its
-    /// confirmation).
+    /// confirmation). `contact_distance` (scene units): the step's own, when
+    /// its vertices' slack is known per segment; NaN: the pair's (settings_for).
     bool test_positions(int32_t mesh_a, int32_t tri_a, int32_t mesh_b, int32_t tri_b, const PairStep& step,
                         const std::array<Vec3, 3>& a0, const std::array<Vec3, 3>& a1,
-                        const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1, bool raw_positions);
+                        const std::array<Vec3, 3>& b0, const std::array<Vec3, 3>& b1, bool raw_positions,
+                        double contact_distance = std::numeric_limits<double>::quiet_NaN());
     void record(const Contact& contact);
     /// Adds a narrow-phase answer's primitive queries (and whether it was
     /// undecided) to the counters.
