@@ -217,7 +217,7 @@ CheckResult find_contacts(const std::vector<MeshAnimation>& meshes,
     // everything afresh, so it stays independent of that shortcut.
     const bool merge = options.method == Method::KineticSeparationList || options.method == Method::SweptVolume;
     const int32_t threads = resolve_threads(options.threads);
-    const Scene scene = merge ? Scene(meshes, options.frames_per_time_code, threads) : Scene(meshes, false, threads);
+    const Scene scene(meshes, merge, threads, options.frames_per_time_code);
     const bool cuttable = cuts_windows(options.method);
     std::unique_ptr<WindowCuts> cuts;
     std::vector<TimeWindow> planned{{options.t_begin, options.t_end}};

@@ -29,9 +29,11 @@ public:
     }
 
     /// @brief Distance (infinity norm, scene units) of sample j from the path.
-    double deviation_of(int64_t j) const {
+    double deviation_of(int64_t j) const { return deviation_of(j, mesh_.sample_point(j, v_)); }
+
+    /// @brief deviation_of(j) given the vertex's position `p` at sample j, read already.
+    double deviation_of(int64_t j, const Vec3& p) const {
         const double w = (mesh_.times[j] - start_time_) / span_;
-        const Vec3 p = mesh_.sample_point(j, v_);
         double worst = 0.0;
         for (int axis = 0; axis < 3; ++axis) worst = std::max(worst, std::abs(start_[axis] + w * change_[axis] - p[axis]));
         return worst;

@@ -80,36 +80,37 @@ double keep_bent_stretches(const MeshAnimation& mesh, int32_t v, double slack, s
     const int64_t count = static_cast<int64_t>(mesh.times.size());
     std::vector<int64_t> out;
     out.reserve(kept.size());
-    std::vector<double> deviations;  // per breakpoint in out: of the samples after it
+    std::vector<double> deviations;  // one per breakpoint in out: of the samples after it
     double worst = 0.0;
-    const auto stretch = [&](int64_t from, int64_t to, double farthest) {  // samples (from, to) between breakpoints
-        if (farthest > slack) {
+    for (size_t i = 0; i < kept.size(); ++i) {
+        // The samples after breakpoint i up to the next: off its chord, or after the last, off where it holds.
+        const int64_t from = kept[i];
+        const bool last = i + 1 == kept.size();
+        const int64_t to = last ? count : kept[i + 1];
+        double farthest = 0.0;
+        if (last) {
+            const Vec3 held = mesh.sample_point(from, v);
             for (int64_t j = from + 1; j < to; ++j) {
-                deviations.push_back(0.0);
-                out.push_back(j);
+                farthest = std::max(farthest, point_magnitude(finite_sample_point(mesh, j, v) - held));
             }
-            deviations.push_back(0.0);
+        } else {
+            const Chord chord(mesh, v, from, to);
+            for (int64_t j = from + 1; j < to; ++j) {
+                farthest = std::max(farthest, chord.deviation_of(j, finite_sample_point(mesh, j, v)));
+            }
+        }
+        const bool bent = farthest > slack;
+        out.push_back(from);
+        deviations.push_back(bent ? 0.0 : farthest);
+        if (bent) {  // every sample of the stretch a breakpoint: none left out
+            for (int64_t j = from + 1; j < to; ++j) {
+                out.push_back(j);
+                deviations.push_back(0.0);
+            }
         } else {
             worst = std::max(worst, farthest);
-            deviations.push_back(farthest);
         }
-    };
-    for (size_t i = 0; i < kept.size(); ++i) {
-        if (i > 0) {
-            const Chord chord(mesh, v, kept[i - 1], kept[i]);
-            double farthest = 0.0;
-            for (int64_t j = kept[i - 1] + 1; j < kept[i]; ++j) {
-                finite_sample_point(mesh, j, v);
-                farthest = std::max(farthest, chord.deviation_of(j));
-            }
-            stretch(kept[i - 1], kept[i], farthest);
-        }
-        out.push_back(kept[i]);
     }
-    const Vec3 held = mesh.sample_point(kept.back(), v);
-    double farthest = 0.0;
-    for (int64_t j = kept.back() + 1; j < count; ++j) farthest = std::max(farthest, point_magnitude(finite_sample_point(mesh, j, v) - held));
-    stretch(kept.back(), count, farthest);
     kept = std::move(out);
     if (segment_deviation) *segment_deviation = std::move(deviations);
     return worst;

@@ -13,11 +13,9 @@ std::vector<FlightplanKind> uniform_kinds(size_t count, bool merge_collinear) {
 
 } // namespace
 
-Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear, int32_t threads)
-    : Scene(meshes_in, uniform_kinds(meshes_in.size(), merge_collinear), threads) {}
-
-Scene::Scene(const std::vector<MeshAnimation>& meshes_in, double frames_per_time_code, int32_t threads)
-    : Scene(meshes_in, uniform_kinds(meshes_in.size(), true), threads, frames_per_time_code) {}
+Scene::Scene(const std::vector<MeshAnimation>& meshes_in, bool merge_collinear, int32_t threads,
+             double frames_per_time_code)
+    : Scene(meshes_in, uniform_kinds(meshes_in.size(), merge_collinear), threads, frames_per_time_code) {}
 
 Scene::Scene(const std::vector<MeshAnimation>& meshes_in, const std::vector<FlightplanKind>& kinds, int32_t threads,
              double frames_per_time_code)

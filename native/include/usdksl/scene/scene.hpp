@@ -30,13 +30,11 @@ constexpr double MERGE_DEVIATION_TO_DISTANCE = 2.0;
 /// @brief Meshes plus their flightplans and the slack merging introduced.
 struct Scene {
     /// @brief Builds flightplans for every mesh, merging collinear segments
-    ///        when asked, on up to `threads` threads.
-    Scene(const std::vector<MeshAnimation>& meshes, bool merge_collinear, int32_t threads = 1);
-
-    /// @brief Merging flightplans for every mesh that step over the samples
-    ///        between whole frames too (FlightplanRequest::frames_per_time_code),
-    ///        on up to `threads` threads.
-    Scene(const std::vector<MeshAnimation>& meshes, double frames_per_time_code, int32_t threads);
+    ///        when asked, on up to `threads` threads; merging, they step over
+    ///        sub-frame samples too when `frames_per_time_code` is above 0
+    ///        (FlightplanRequest::frames_per_time_code).
+    Scene(const std::vector<MeshAnimation>& meshes, bool merge_collinear, int32_t threads = 1,
+          double frames_per_time_code = 0.0);
 
     /// @brief Builds flightplans of the given kind per mesh (kinds.size() ==
     ///        meshes.size()), on up to `threads` threads; merging ones step
